@@ -1,0 +1,16 @@
+"""fusioncenter: the shared library of the companion book.
+
+In all four papers the question is what the fusion centre can compute from what the sensors
+chose, or managed, to send. One module per topic:
+
+- :mod:`fusioncenter.riccati`     Kalman covariance (Riccati) recursions and steady states
+- :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
+- :mod:`fusioncenter.figures`     the registry of every figure and table of the papers
+- :mod:`fusioncenter.plotting`    the one plotting style
+- :mod:`fusioncenter.profile`     the ``fast`` / ``paper`` execution profiles
+"""
+
+from fusioncenter.profile import current_profile
+
+__all__ = ["current_profile", "__version__"]
+__version__ = "0.1.0"

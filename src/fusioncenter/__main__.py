@@ -1,0 +1,5 @@
+import sys
+
+from fusioncenter.cli import main
+
+sys.exit(main())
