@@ -156,7 +156,9 @@ def simulate(
                 if bar is not None:
                     bar.update(sum(n for _, n in task))
         else:
-            futures = {executor.submit(_run_blocks, chunk_fn, task): i for i, task in enumerate(tasks)}
+            futures = {
+                executor.submit(_run_blocks, chunk_fn, task): i for i, task in enumerate(tasks)
+            }
             for fut in as_completed(futures):
                 i = futures[fut]
                 results[i] = fut.result()

@@ -134,7 +134,7 @@ def measurement_update(P, C, R) -> np.ndarray:
 
 
 def riccati_step(P, A, Q, C, R) -> np.ndarray:
-    """One step ``P_{k+1|k} = A P_{k|k} A^T + Q`` with ``P_{k|k}`` from :func:`measurement_update`."""
+    """One step ``P_{k+1|k} = A P_{k|k} A^T + Q``, ``P_{k|k}`` from :func:`measurement_update`."""
     A = _as_matrix("A", A)
     Q = _as_matrix("Q", Q)
     _check_square("A", A)

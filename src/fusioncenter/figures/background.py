@@ -94,7 +94,8 @@ def checks_riccati(data: dict) -> list[Claim]:
     fixed = riccati.scalar_step(p_inf, SCALAR["a"], SCALAR["q"], SCALAR["c"], SCALAR["r"])
     return [
         Claim("closed-form scalar steady state is a fixed point of the recursion",
-              abs(fixed - p_inf) <= 1e-12 * p_inf, f"|step(p_inf) - p_inf| = {abs(fixed - p_inf):.2e}"),
+              abs(fixed - p_inf) <= 1e-12 * p_inf,
+              f"|step(p_inf) - p_inf| = {abs(fixed - p_inf):.2e}"),
         Claim("closed form equals scipy's DARE solution",
               abs(p_inf - data["p_scalar_dare"]) <= 1e-10 * p_inf,
               f"{p_inf:.12f} vs {data['p_scalar_dare']:.12f}"),

@@ -33,8 +33,10 @@ __all__ = [
 PAPERS: dict[str, tuple[str, str]] = {
     "mo2015": ("mo2015", "Event-based estimation (lecture notes)"),
     "dey2009": ("dey2009", "Kalman filtering with faded measurements"),
-    "leong2011": ("leong2011", "Asymptotics and power allocation for state estimation over fading channels"),
-    "zheng2014": ("zheng2014", "Sequential Bayesian estimation with censored data for multi-sensor systems"),
+    "leong2011": ("leong2011", "Asymptotics and power allocation for state estimation over "
+                  "fading channels"),
+    "zheng2014": ("zheng2014", "Sequential Bayesian estimation with censored data for "
+                  "multi-sensor systems"),
     "book": ("", "This book's own figures"),
 }
 

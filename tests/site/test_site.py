@@ -1,0 +1,235 @@
+"""Checks of the built HTML site (``pytest -m site``).
+
+The site is taken from ``$FUSIONCENTER_SITE`` (default: the fast profile's build,
+``_build/fast/_build/html``; build it with ``python tools/build_book.py --profile fast --strict``).
+A missing site is a failure, not a skip.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import urlsplit
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+DEFAULT_SITE = ROOT / "_build" / "fast" / "_build" / "html"
+MATHJAX_ENTRY = "_static/mathjax/tex-chtml.js"
+
+pytestmark = pytest.mark.site
+
+
+@pytest.fixture(scope="module")
+def site() -> Path:
+    path = Path(os.environ.get("FUSIONCENTER_SITE", DEFAULT_SITE))
+    if not (path / "index.html").is_file():
+        pytest.fail(f"built site not found at {path} (no index.html); build it with "
+                    "`python tools/build_book.py --profile fast --strict` or point "
+                    "FUSIONCENTER_SITE at an HTML folder")
+    return path
+
+
+# --------------------------------------------------------------------------------------------
+# Static scan for resources fetched from outside the site.
+#
+# What counts as "external": a URL starting with http://, https:// or // (protocol-relative).
+# Links the reader may follow (<a href>, <link rel=canonical|next|prev|...>) are fine; only
+# things the browser fetches by itself while rendering a page are flagged:
+#   * HTML: <script src>, <link href> with a fetching rel (stylesheet, preload, modulepreload,
+#     prefetch, preconnect, dns-prefetch, icon, manifest), <img|source|video|audio|track|embed
+#     |input src>, srcset, <video poster>, <object data>, <iframe|frame src>; CSS in <style>
+#     blocks and style="" attributes; and inline <script> bodies (same loader patterns as .js).
+#   * CSS files: url(...) and @import after removing /* comments */ (vendored CSS such as Font
+#     Awesome carries licence URLs in comments, which are never fetched).
+#   * JS files: only obvious loaders whose argument is a literal remote URL -- import(),
+#     importScripts(), fetch(), require(), loadScript(), new Worker(), sendBeacon(),
+#     xhr.open(method, url), el.src/href = url, setAttribute("src"|"href", url),
+#     document.write("<script src=url...") -- plus well-known tracker hosts. A bare URL string is
+#     NOT flagged: vendored bundles (MathJax, Font Awesome, the theme) are full of namespace URIs
+#     (http://www.w3.org/...), licence/help links and CDN defaults behind configuration that are
+#     never fetched by this site (e.g. MathJax's latest.js CDN table, speech-rule-engine's
+#     default mathmaps URL, sphinx-thebe's THEBE_JS_URL, only used when thebe is launched, which
+#     this book disables). What is really fetched is checked at run time by test_browser_check,
+#     which aborts and reports every non-loopback request.
+# --------------------------------------------------------------------------------------------
+
+REMOTE = r"(?:https?:)?//[A-Za-z0-9][A-Za-z0-9.-]*\.[A-Za-z]{2,}"
+Q = r"[`'\"]"
+JS_LOADERS = [
+    re.compile(p)
+    for p in (
+        rf"\b(?:import|importScripts|fetch|require|loadScript|Worker|sendBeacon)\s*\(\s*{Q}"
+        + REMOTE,
+        rf"\.(?:src|href)\s*=\s*{Q}" + REMOTE,
+        rf"\.open\s*\(\s*{Q}[A-Za-z]+{Q}\s*,\s*{Q}" + REMOTE,
+        rf"setAttribute\s*\(\s*{Q}(?:src|href){Q}\s*,\s*{Q}" + REMOTE,
+        r"document\.write(?:ln)?\s*\([^)]{0,200}?<(?:script|link|img|iframe)\b[^>]{0,200}?"
+        r"(?:src|href)\s*=\s*\\?['\"]?" + REMOTE,
+    )
+]
+TRACKERS = re.compile(r"googletagmanager\.com|google-analytics\.com|plausible\.io"
+                      r"|fonts\.googleapis\.com|fonts\.gstatic\.com")
+CSS_COMMENT = re.compile(r"/\*.*?\*/", re.S)
+CSS_URL = re.compile(r"url\(\s*(['\"]?)([^'\")]*)\1\s*\)", re.I)
+CSS_IMPORT = re.compile(r"@import\s+(?:url\(\s*)?['\"]?([^'\")\s;]+)", re.I)
+FETCHING_RELS = {"stylesheet", "preload", "modulepreload", "prefetch", "preconnect",
+                 "dns-prefetch", "icon", "shortcut", "apple-touch-icon", "manifest"}
+SRC_TAGS = {"img", "source", "video", "audio", "track", "embed", "input", "iframe", "frame",
+            "script"}
+JS_TYPES = {"", "text/javascript", "application/javascript", "module"}
+
+
+def is_remote(url: str | None) -> bool:
+    u = (url or "").strip().lower()
+    return u.startswith(("http://", "https://", "//"))
+
+
+def css_problems(css: str) -> list[str]:
+    css = CSS_COMMENT.sub("", css)
+    found = [f"CSS url({m.group(2)})" for m in CSS_URL.finditer(css) if is_remote(m.group(2))]
+    found += [f"CSS @import {m.group(1)}" for m in CSS_IMPORT.finditer(css)
+              if is_remote(m.group(1))]
+    return found
+
+
+def js_problems(js: str) -> list[str]:
+    found = [f"JS loader: {m.group(0)[:120]!r}" for rx in JS_LOADERS for m in rx.finditer(js)]
+    found += [f"JS tracker host: {m.group(0)}" for m in TRACKERS.finditer(js)]
+    return found
+
+
+class _Scanner(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.problems: list[str] = []
+        self.scripts: list[str] = []  # src of every <script src>
+        self._in: str | None = None  # "style" or "script" while inside an inline block
+        self._buf: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = {k.lower(): (v or "") for k, v in attrs}
+        if "style" in a:
+            self.problems += [f"<{tag} style>: {p}" for p in css_problems(a["style"])]
+        if tag == "script" and "src" in a:
+            self.scripts.append(a["src"])
+        if tag in SRC_TAGS and is_remote(a.get("src")):
+            self.problems.append(f"<{tag} src={a['src']}>")
+        for attr in ("srcset", "imagesrcset"):
+            for cand in a.get(attr, "").split(","):
+                if cand.strip() and is_remote(cand.split()[0]):
+                    self.problems.append(f"<{tag} {attr}={cand.strip()}>")
+        if tag == "video" and is_remote(a.get("poster")):
+            self.problems.append(f"<video poster={a['poster']}>")
+        if tag == "object" and is_remote(a.get("data")):
+            self.problems.append(f"<object data={a['data']}>")
+        if tag == "link" and is_remote(a.get("href")):
+            rels = set(a.get("rel", "").lower().split())
+            if rels & FETCHING_RELS:
+                self.problems.append(f"<link rel={a.get('rel')} href={a['href']}>")
+        if tag == "style" or (tag == "script" and "src" not in a
+                              and a.get("type", "").lower() in JS_TYPES):
+            self._in, self._buf = tag, []
+
+    def handle_data(self, data: str) -> None:
+        if self._in:
+            self._buf.append(data)
+
+    def handle_endtag(self, tag: str) -> None:
+        if self._in and tag == self._in:
+            body = "".join(self._buf)
+            if tag == "style":
+                self.problems += [f"<style>: {p}" for p in css_problems(body)]
+            else:
+                self.problems += [f"inline <script>: {p}" for p in js_problems(body)]
+            self._in = None
+
+
+def scan_html(text: str) -> _Scanner:
+    s = _Scanner()
+    s.feed(text)
+    s.close()
+    return s
+
+
+def test_no_external_resources(site: Path) -> None:
+    problems: list[str] = []
+    counts = {".html": 0, ".css": 0, ".js": 0}
+    math_pages: list[Path] = []
+    for path in sorted(site.rglob("*")):
+        if path.suffix not in counts or not path.is_file():
+            continue
+        counts[path.suffix] += 1
+        rel = path.relative_to(site).as_posix()
+        text = path.read_text(encoding="utf-8", errors="replace")
+        if path.suffix == ".css":
+            found = css_problems(text)
+        elif path.suffix == ".js":
+            found = js_problems(text)
+        else:
+            scanner = scan_html(text)
+            found = scanner.problems
+            # The MathJax entry point of every page must be the site's own copy.
+            for src in scanner.scripts:
+                if "mathjax" in src.lower():
+                    target = (path.parent / urlsplit(src).path).resolve()
+                    if is_remote(src) or not target.is_file():
+                        found.append(f"MathJax script {src} is not a file of the site")
+                    elif target != (site / MATHJAX_ENTRY).resolve():
+                        found.append(f"MathJax script {src} is not {MATHJAX_ENTRY}")
+            if re.search(r'class="[^"]*\bmath\b', text):
+                math_pages.append(path)
+                if not any(urlsplit(s).path.endswith("mathjax/tex-chtml.js")
+                           for s in scanner.scripts):
+                    found.append(f"has math but does not load {MATHJAX_ENTRY}")
+        problems += [f"{rel}: {p}" for p in found]
+
+    assert counts[".html"] > 0, f"no HTML files under {site}"
+    assert (site / MATHJAX_ENTRY).is_file(), f"{MATHJAX_ENTRY} missing from the site"
+    fonts = list((site / "_static/mathjax/output/chtml/fonts/woff-v2").glob("*.woff"))
+    assert fonts, "MathJax CHTML woff fonts missing from _static/mathjax"
+    assert math_pages, "no page of the site contains math (class=\"math\")"
+    assert not problems, "external resources referenced by the site:\n" + "\n".join(problems)
+
+
+def _load_browser_check():
+    spec = importlib.util.spec_from_file_location(
+        "browser_check", ROOT / "tools" / "browser_check.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_browser_check(site: Path) -> None:
+    browser_check = _load_browser_check()
+    problems = browser_check.check_site(site, min_pages=8, min_math_pages=3, min_images=2,
+                                        log=print)
+    assert not problems, "browser check found problems:\n" + "\n".join(problems)
+
+
+def _toc_files(node) -> list[str]:
+    files: list[str] = []
+    if isinstance(node, dict):
+        for key in ("root", "file"):
+            if isinstance(node.get(key), str):
+                files.append(node[key])
+        for value in node.values():
+            if isinstance(value, (dict, list)):
+                files += _toc_files(value)
+    elif isinstance(node, list):
+        for item in node:
+            files += _toc_files(item)
+    return files
+
+
+def test_every_toc_page_built(site: Path) -> None:
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
+    files = _toc_files(toc)
+    assert len(files) > 1, "no file: entries found in _toc.yml"
+    missing = [f for f in files
+               if not (site / Path(f).with_suffix(".html")).is_file()]
+    assert not missing, "pages of _toc.yml without HTML in the site: " + ", ".join(missing)

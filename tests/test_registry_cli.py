@@ -1,0 +1,156 @@
+"""The registry of figures and tables, and the command line that regenerates them."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+
+import matplotlib.figure
+import pytest
+
+from fusioncenter import figures
+from fusioncenter.cli import main
+from fusioncenter.figures.scorecard import scorecard_markdown, status_counts
+
+OUR_OWN = {"background-riccati", "background-kf-montecarlo"}
+
+
+def test_registry_ids_are_exactly_the_papers_plus_our_own():
+    expected = set(figures.PAPER_IDS) | OUR_OWN
+    assert set(figures.ids()) == expected
+    assert len(figures.ids()) == len(expected)  # no duplicates
+    assert len(figures.PAPER_IDS) == 4 + 10 + 10 + 3
+
+
+def test_paper_ids_follow_the_papers():
+    ids = set(figures.PAPER_IDS)
+    assert {f"dey2009-fig{i}" for i in range(1, 5)} <= ids
+    assert {"leong2011-fig3a", "leong2011-fig6b", "zheng2014-fig10", "zheng2014-table3"} <= ids
+
+
+def test_statuses_are_honest():
+    for e in figures.entries():
+        assert e.status in figures.STATUSES
+        if e.compute is None:
+            assert e.status == "not-started", e.id
+        if e.status != "not-started":
+            assert e.plot is not None and e.checks is not None, e.id
+        assert e.caption and e.chapter.startswith("book/")
+
+
+def test_entry_validation():
+    with pytest.raises(ValueError, match="unknown paper"):
+        figures.Entry(id="x", paper="nobody2020", kind="figure", caption="c", chapter="book/x")
+    with pytest.raises(ValueError, match="needs compute"):
+        figures.Entry(id="x", paper="book", kind="figure", caption="c", chapter="book/x",
+                      status="reproduced")
+    with pytest.raises(ValueError, match="duplicate"):
+        figures.register(figures.get("dey2009-fig1"))
+
+
+def test_unknown_id_suggests_near_matches():
+    with pytest.raises(figures.UnknownEntry, match="did you mean dey2009-fig1"):
+        figures.get("dey2009-fig01")
+
+
+def test_not_started_entry_refuses_to_compute():
+    with pytest.raises(figures.EntryNotReady, match="not-started"):
+        figures.get("zheng2014-table1").run_compute("fast")
+
+
+@pytest.mark.parametrize("entry_id", sorted(OUR_OWN))
+def test_own_entries_compute_plot_and_pass_their_checks(entry_id):
+    entry = figures.get(entry_id)
+    data = entry.run_compute("fast")
+    fig = entry.run_plot(data)
+    assert isinstance(fig, matplotlib.figure.Figure)
+    for ax in fig.get_axes():
+        assert ax.get_xlabel() and ax.get_ylabel()
+    claims = entry.run_checks(data)
+    assert claims and all(claims), [c for c in claims if not c]
+
+
+def test_monte_carlo_check_can_fail():
+    """The claims are real: a wrong covariance is detected at the fast profile's trial count."""
+    entry = figures.get("background-kf-montecarlo")
+    data = entry.run_compute("fast")
+    data["riccati_diag"] = data["riccati_diag"] * 1.1
+    assert not all(entry.run_checks(data))
+
+
+def test_compute_is_reproducible_and_seeded():
+    entry = figures.get("background-kf-montecarlo")
+    a, b = entry.run_compute("fast"), entry.run_compute("fast")
+    assert (a["mse"] == b["mse"]).all()
+    c = entry.run_compute("fast", seed=123)
+    assert not (a["mse"] == c["mse"]).all()
+    with pytest.raises(ValueError, match="profile"):
+        entry.run_compute("huge")
+    with pytest.raises(ValueError, match="seed"):
+        entry.run_compute("fast", seed=-1)
+
+
+def test_scorecard():
+    table = scorecard_markdown()
+    for entry_id in figures.ids():
+        assert f"`{entry_id}`" in table
+    counts = status_counts()
+    assert sum(counts.values()) == len(figures.ids())
+    assert "No registry entries" in scorecard_markdown("mo2015")
+    with pytest.raises(ValueError, match="paper"):
+        scorecard_markdown("nobody")
+
+
+# ------------------------------------------------------------------------------------ CLI
+def test_cli_list_json(capsys):
+    assert main(["list", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert {r["id"] for r in rows} == set(figures.ids())
+    assert {"id", "paper", "caption", "status", "note", "parameters"} <= set(rows[0])
+
+
+def test_cli_compute_json_and_csv(capsys, tmp_path):
+    assert main(["compute", "background-riccati", "--json"]) == 0
+    out = capsys.readouterr()
+    data = json.loads(out.out)
+    assert len(data["p_scalar"]) == len(data["k"])
+    assert "computing background-riccati" in out.err
+    path = tmp_path / "d.csv"
+    assert main(["compute", "background-kf-montecarlo", "--csv", str(path), "--seed", "3"]) == 0
+    rows = list(csv.DictReader(path.open()))
+    names = {r["name"] for r in rows}
+    assert {"k", "mse", "stderr", "riccati_diag", "n_trials"} <= names
+    assert any(r["name"] == "mse" and r["index"] == "0;0" for r in rows)
+
+
+def test_cli_plot_and_verify(capsys, tmp_path):
+    assert main(["plot", "background-riccati", "-o", str(tmp_path)]) == 0
+    assert (tmp_path / "background-riccati.png").stat().st_size > 10_000
+    assert main(["verify", "background-riccati"]) == 0
+    assert "5 passed, 0 failed" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["compute", "no-such-figure", "--json"],
+        ["verify", "zheng2014-fig1"],
+        ["plot", "dey2009-fig1", "-o", "/tmp/never"],
+        ["compute", "background-riccati", "--json", "--seed", "-4"],
+    ],
+)
+def test_cli_errors_exit_2_with_a_message(argv, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ")
+
+
+def test_cli_bad_option_and_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "fusioncenter", "compute", "background-riccati",
+                           "--profile", "huge", "--json"], capture_output=True, text=True)
+    assert proc.returncode == 2 and "invalid choice" in proc.stderr
+    proc = subprocess.run([sys.executable, "-m", "fusioncenter", "list"], capture_output=True,
+                          text=True)
+    assert proc.returncode == 0 and "dey2009-fig1" in proc.stdout

@@ -1,0 +1,123 @@
+"""The repository keeps its promises: the two commands, the pinned environment, the parts."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _lock() -> dict[str, str]:
+    pins = {}
+    for line in (ROOT / "requirements/lock.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            name, _, version = line.partition("==")
+            assert version, f"unpinned lock line: {line!r}"
+            pins[name.lower().replace("_", "-")] = version
+    return pins
+
+
+def test_readme_holds_the_two_commands():
+    text = (ROOT / "README.md").read_text()
+    assert "make book" in text and "make test" in text
+    makefile = (ROOT / "Makefile").read_text()
+    assert re.search(r"^book: venv$", makefile, re.M)
+    assert re.search(r"^test: venv$", makefile, re.M)
+
+
+def test_ci_runs_the_readme_test_command():
+    ci = (ROOT / ".ci/run").read_text()
+    assert "make test" in ci and "set -euo pipefail" in ci
+    assert "apt-get install" in ci and "chromium" in ci
+
+
+def test_lock_pins_jupyter_book_1_and_every_extension():
+    pins = _lock()
+    assert pins["jupyter-book"].startswith("1.")
+    for ext in ["sphinx", "sphinx-book-theme", "sphinx-proof", "sphinx-exercise",
+                "sphinxcontrib-bibtex", "myst-nb", "myst-parser", "sphinx-mathjax-offline",
+                "nbval", "jupytext", "numpy", "scipy", "sympy", "matplotlib", "filterpy",
+                "playwright", "dask", "distributed"]:
+        assert ext in pins, f"{ext} is not pinned in requirements/lock.txt"
+
+
+def test_environment_yml_uses_python_311_and_the_same_lock():
+    env = yaml.safe_load((ROOT / "environment.yml").read_text())
+    deps = env["dependencies"]
+    assert "python=3.11" in deps
+    pip = next(d["pip"] for d in deps if isinstance(d, dict))
+    assert "-r requirements/lock.txt" in pip
+    # any conda package pinned explicitly must carry the lock's version
+    pins = _lock()
+    for d in deps:
+        if isinstance(d, str) and "=" in d and not d.startswith("python="):
+            name, version = d.split("=", 1)
+            assert pins.get(name.lower()) == version.lstrip("="), d
+
+
+def test_toc_has_the_parts_in_order():
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
+    captions = [p["caption"] for p in toc["parts"]]
+    expected = ["Introduction", "Background", "Part I", "Part II", "Part III", "Part IV",
+                "Errata", "Reproduction scorecard", "Bibliography", "How to run and extend"]
+    assert len(captions) == len(expected)
+    for cap, want in zip(captions, expected, strict=True):
+        assert cap.startswith(want), (cap, want)
+
+
+def test_config_executes_strictly_and_serves_mathjax_locally():
+    cfg = yaml.safe_load((ROOT / "_config.yml").read_text())
+    assert cfg["execute"]["raise_on_error"] is True
+    assert cfg["execute"]["allow_errors"] is False
+    assert cfg["execute"]["execute_notebooks"] in ("cache", "force")
+    sph = cfg["sphinx"]
+    assert {"sphinx_proof", "sphinx_exercise", "sphinx-mathjax-offline"} <= set(
+        sph["extra_extensions"])
+    assert not sph["config"]["mathjax_path"].startswith(("http", "//"))
+
+
+def test_every_cited_key_is_in_the_bibliography():
+    bib = (ROOT / "book/references.bib").read_text()
+    keys = set(re.findall(r"^@\w+\{([^,]+),", bib, re.M))
+    assert {"mo2015", "dey2009", "leong2011", "zheng2014"} <= keys
+    for md in (ROOT / "book").rglob("*.md"):
+        for group in re.findall(r"\{cite(?::[tp])?\}`([^`]+)`", md.read_text()):
+            for key in group.split(","):
+                assert key.strip() in keys, f"{md}: unknown citation {key!r}"
+
+
+def test_build_fingerprint_tracks_library_and_lock(tmp_path, monkeypatch):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("build_book", ROOT / "tools/build_book.py")
+    bb = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bb)
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src/a.py").write_text("x = 1\n")
+    for name in ("pyproject.toml", "_config.yml"):
+        (tmp_path / name).write_text("")
+    (tmp_path / "requirements").mkdir()
+    (tmp_path / "requirements/lock.txt").write_text("numpy==2\n")
+    monkeypatch.setattr(bb, "ROOT", tmp_path)
+    base = bb.fingerprint("fast")
+    assert bb.fingerprint("paper") != base
+    (tmp_path / "src/a.py").write_text("x = 2\n")
+    changed_src = bb.fingerprint("fast")
+    assert changed_src != base
+    (tmp_path / "requirements/lock.txt").write_text("numpy==3\n")
+    assert bb.fingerprint("fast") != changed_src
+
+    # prepare() wipes the old build (cache included) when the fingerprint changes
+    out = tmp_path / "site"
+    cache = out / "_build" / ".jupyter_cache"
+    cache.mkdir(parents=True)
+    (cache / "stale").write_text("old outputs")
+    bb.prepare(out, "fast")
+    assert not (cache / "stale").exists()
+    cache.mkdir(parents=True)
+    (cache / "kept").write_text("current outputs")
+    bb.prepare(out, "fast")  # same inputs: the cache is kept
+    assert (cache / "kept").exists()

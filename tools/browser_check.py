@@ -1,0 +1,382 @@
+"""Open every page of the built site in headless Chromium and check that it really renders.
+
+    python tools/browser_check.py _build/fast/_build/html [--min-pages 8] [--min-math-pages 3]
+                                                          [--min-images 2]
+
+The site is served from a loopback HTTP server (127.0.0.1, random free port) and every page is
+loaded in one headless Chromium (Debian's ``/usr/bin/chromium`` driven by playwright; playwright's
+own browser downloads are never used). Any request to a host other than 127.0.0.1 is aborted and
+reported. For each page it checks:
+
+* the page is served with HTTP 200 and no sub-resource fails (HTTP >= 400 or a network error);
+* no console message of type "error" and no uncaught JavaScript exception (a missing favicon is
+  ignored);
+* every ``<img>`` finished loading with a non-zero natural width;
+* on pages whose served HTML has math elements (class ``math``: ``span.math``, ``div.math``),
+  MathJax started (``MathJax.startup.promise``), produced at least one ``mjx-container`` per
+  math element, left no raw TeX delimiters (``\\(``, ``\\[``, ``$$``) visible in them, reported no
+  TeX error (``mjx-merror``), and its woff fonts were loaded from the site itself.
+
+Importable: ``check_site(html_dir) -> list[str]`` returns the problems (empty when all is well).
+A missing browser or playwright is a problem, never a skip. Exit status 1 on any problem.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import http.server
+import os
+import re
+import socketserver
+import sys
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import urlsplit
+
+CHROMIUM = os.environ.get("FUSIONCENTER_CHROMIUM", "/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+INSTALL_HINT = "install Debian's browser with `apt-get install chromium`"
+LOCAL_HOST = "127.0.0.1"
+NAV_TIMEOUT_MS = 30_000
+MATHJAX_TIMEOUT_MS = 20_000
+# Not pages: the theme's Jinja macro files that Sphinx copies into _static, and source copies.
+SKIP_DIRS = {"_static", "_sources", "_images_src"}
+RAW_TEX = ("\\(", "\\)", "\\[", "\\]", "$$")
+
+
+@dataclass
+class PageResult:
+    path: str
+    problems: list[str] = field(default_factory=list)
+    math_expected: int = 0
+    math_typeset: int = 0
+    images: int = 0
+    images_ok: int = 0
+    fonts_loaded: int = 0
+
+    @property
+    def ok(self) -> bool:
+        return not self.problems
+
+    def line(self) -> str:
+        status = "PASS" if self.ok else "FAIL"
+        math = f"math {self.math_typeset}/{self.math_expected}" if self.math_expected else "math -"
+        fonts = f" mathjax-fonts {self.fonts_loaded}" if self.math_expected else ""
+        return (f"{status} {self.path}: {math}, images {self.images_ok}/{self.images}{fonts}")
+
+
+class _MathCounter(HTMLParser):
+    """Count the elements of the served HTML whose class list contains the token ``math``."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.count = 0
+        self.refresh_target: str | None = None
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = {k: (v or "") for k, v in attrs}
+        if "math" in a.get("class", "").split():
+            self.count += 1
+        if tag == "meta" and a.get("http-equiv", "").lower() == "refresh":
+            m = re.search(r"url\s*=\s*(\S+)", a.get("content", ""), re.I)
+            if m:
+                self.refresh_target = m.group(1).strip("'\"")
+
+
+class _QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, format: str, *args: object) -> None:  # noqa: A002 - stdlib signature
+        pass
+
+
+class _Server(socketserver.ThreadingMixIn, http.server.HTTPServer):
+    daemon_threads = True
+    allow_reuse_address = True
+
+
+def list_pages(html_dir: Path) -> list[Path]:
+    return sorted(
+        p for p in html_dir.rglob("*.html")
+        if not (set(p.relative_to(html_dir).parts[:-1]) & SKIP_DIRS)
+    )
+
+
+# Runs in the page once it has loaded: wait for every image (lazy ones are made eager first).
+_IMAGES_JS = """
+async () => {
+  const imgs = Array.from(document.images);
+  for (const img of imgs) { if (img.loading === 'lazy') img.loading = 'eager'; }
+  await Promise.all(imgs.map(img => img.complete ? null : new Promise(done => {
+    img.addEventListener('load', done, {once: true});
+    img.addEventListener('error', done, {once: true});
+    setTimeout(done, 10000);
+  })));
+  return imgs.map(img => ({src: img.currentSrc || img.src,
+                           ok: img.complete && img.naturalWidth > 0}));
+}
+"""
+
+# Runs after MathJax.startup.promise resolved: inspect every math element.
+_MATH_JS = """
+async (rawTex) => {
+  if (document.fonts && document.fonts.ready) { await document.fonts.ready; }
+  const els = Array.from(document.querySelectorAll('.math'));
+  const raw = [];
+  for (const el of els) {
+    // Text that is not inside an mjx-container is what MathJax left untouched.
+    const clone = el.cloneNode(true);
+    clone.querySelectorAll('mjx-container').forEach(c => c.remove());
+    const left = clone.textContent;
+    if (rawTex.some(d => left.includes(d))) raw.push(left.trim().slice(0, 80));
+  }
+  const errors = Array.from(document.querySelectorAll('mjx-merror')).map(
+    e => (e.getAttribute('data-mjx-error') || e.textContent || '').slice(0, 80));
+  return {elements: els.length,
+          containers: document.querySelectorAll('mjx-container').length,
+          raw: raw, errors: errors};
+}
+"""
+
+
+def _launch(playwright):
+    if not Path(CHROMIUM).exists():
+        raise FileNotFoundError(f"{CHROMIUM} not found")
+    return playwright.chromium.launch(
+        executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
+
+
+def check_site(
+    html_dir: str | os.PathLike[str],
+    *,
+    min_pages: int = 0,
+    min_math_pages: int = 0,
+    min_images: int = 0,
+    log: Callable[[str], None] | None = None,
+) -> list[str]:
+    """Check every page of ``html_dir`` in headless Chromium; return the list of problems."""
+    html_dir = Path(html_dir).resolve()
+    say = log or (lambda _msg: None)
+    if not (html_dir / "index.html").is_file():
+        return [f"{html_dir}: no index.html (build the site first)"]
+    pages = list_pages(html_dir)
+
+    try:
+        from playwright.sync_api import Error as PlaywrightError
+        from playwright.sync_api import sync_playwright
+    except ImportError as exc:
+        return [f"playwright is not importable ({exc}); install the Python package `playwright` "
+                f"in the environment and {INSTALL_HINT} (browser check cannot run)"]
+
+    handler = functools.partial(_QuietHandler, directory=str(html_dir))
+    server = _Server((LOCAL_HOST, 0), handler)
+    port = server.server_address[1]
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    base = f"http://{LOCAL_HOST}:{port}/"
+
+    results: list[PageResult] = []
+    site_problems: list[str] = []
+    try:
+        with sync_playwright() as pw:
+            try:
+                browser = _launch(pw)
+            except (PlaywrightError, FileNotFoundError) as exc:
+                first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+                return [f"cannot start headless Chromium at {CHROMIUM}: {first}; {INSTALL_HINT} "
+                        "(browser check cannot run)"]
+            context = browser.new_context(service_workers="block")
+            current: dict[str, PageResult | None] = {"page": None}
+            aborted: set[str] = set()
+
+            def route(r) -> None:
+                url = r.request.url
+                parts = urlsplit(url)
+                if parts.scheme in ("data", "blob", "about") or parts.hostname == LOCAL_HOST:
+                    r.continue_()
+                    return
+                aborted.add(url)
+                res = current["page"]
+                if res is not None:
+                    res.problems.append(f"page {res.path} requested external URL {url}")
+                else:
+                    site_problems.append(f"external request outside any page: {url}")
+                r.abort()
+
+            context.route("**/*", route)
+            page = context.new_page()
+            fonts: list[tuple[str, int]] = []
+
+            def on_console(msg) -> None:
+                res = current["page"]
+                if res is None or msg.type != "error":
+                    return
+                loc = (msg.location or {}).get("url", "")
+                if "favicon" in loc or "favicon" in msg.text:
+                    return
+                if any(u in msg.text or u == loc for u in aborted):
+                    return  # already reported as an external request
+                res.problems.append(f"page {res.path}: console error: {msg.text[:300]}"
+                                    + (f" ({loc})" if loc else ""))
+
+            def on_pageerror(exc) -> None:
+                res = current["page"]
+                if res is not None:
+                    res.problems.append(f"page {res.path}: uncaught JavaScript error: {exc}")
+
+            def on_response(resp) -> None:
+                res = current["page"]
+                url = resp.url
+                if "/mathjax/" in url and re.search(r"\.woff2?(\?|$)", url):
+                    fonts.append((url, resp.status))
+                if res is None or resp.status < 400 or "favicon" in url:
+                    return
+                res.problems.append(f"page {res.path}: HTTP {resp.status} for {url}")
+
+            def on_requestfailed(req) -> None:
+                res = current["page"]
+                if res is None or req.url in aborted or "favicon" in req.url:
+                    return
+                res.problems.append(f"page {res.path}: request failed: {req.url} "
+                                    f"({req.failure})")
+
+            page.on("console", on_console)
+            page.on("pageerror", on_pageerror)
+            page.on("response", on_response)
+            page.on("requestfailed", on_requestfailed)
+
+            for path in pages:
+                rel = path.relative_to(html_dir).as_posix()
+                res = PageResult(rel)
+                parser = _MathCounter()
+                parser.feed(path.read_text(encoding="utf-8", errors="replace"))
+                res.math_expected = parser.count
+                current["page"] = res
+                fonts.clear()
+                try:
+                    _check_page(page, base + rel, res, parser.refresh_target, fonts)
+                except PlaywrightError as exc:
+                    res.problems.append(f"page {rel}: browser error: "
+                                        f"{str(exc).strip().splitlines()[0]}")
+                current["page"] = None
+                results.append(res)
+                say(res.line())
+                for prob in res.problems:
+                    say(f"    {prob}")
+            context.close()
+            browser.close()
+    finally:
+        server.shutdown()
+        server.server_close()
+
+    math_pages = sum(1 for r in results if r.math_expected and r.math_typeset)
+    images = sum(r.images_ok for r in results)
+    if len(results) < min_pages:
+        site_problems.append(f"only {len(results)} pages checked, expected at least {min_pages}")
+    if math_pages < min_math_pages:
+        site_problems.append(f"only {math_pages} pages with typeset math, "
+                             f"expected at least {min_math_pages}")
+    if images < min_images:
+        site_problems.append(f"only {images} images loaded, expected at least {min_images}")
+    n_ok = sum(r.ok for r in results)
+    say(f"{len(results)} pages, {math_pages} with typeset math, {images} images loaded")
+    for prob in site_problems:
+        say(f"SITE: {prob}")
+    say(f"browser check: {n_ok} passed, {len(results) - n_ok} failed")
+    return [p for r in results for p in r.problems] + site_problems
+
+
+def _check_page(page, url: str, res: PageResult, refresh: str | None,
+                fonts: list[tuple[str, int]]) -> None:
+    resp = page.goto(url, wait_until="load", timeout=NAV_TIMEOUT_MS)
+    if resp is None or resp.status != 200:
+        res.problems.append(f"page {res.path}: HTTP {resp.status if resp else 'no response'}")
+        return
+    if refresh is not None:
+        # A meta-refresh redirect (the site's index.html): the target must load; it is checked
+        # as a page of its own.
+        target = refresh.split("#")[0]
+        try:
+            page.wait_for_url(lambda u: urlsplit(u).path.endswith(target),
+                              timeout=NAV_TIMEOUT_MS)
+            page.wait_for_load_state("load")
+        except Exception as exc:  # noqa: BLE001 - any failure to follow is the finding
+            res.problems.append(f"page {res.path}: redirect to {refresh} not followed ({exc})")
+        return
+
+    images = page.evaluate(_IMAGES_JS)
+    res.images = len(images)
+    res.images_ok = sum(1 for i in images if i["ok"])
+    for img in images:
+        if not img["ok"]:
+            res.problems.append(f"page {res.path}: image did not load: {img['src']}")
+
+    if not res.math_expected:
+        return
+    try:
+        page.wait_for_function(
+            "() => window.MathJax && MathJax.startup && MathJax.startup.promise",
+            timeout=MATHJAX_TIMEOUT_MS)
+        page.evaluate("() => MathJax.startup.promise.then(() => true)")
+    except Exception as exc:  # noqa: BLE001 - a timeout or a rejected promise alike
+        first = str(exc).strip().splitlines()[0]
+        res.problems.append(f"page {res.path}: MathJax did not start/typeset "
+                            f"({res.math_expected} math elements): {first}")
+        return
+    info = page.evaluate(_MATH_JS, list(RAW_TEX))
+    res.math_typeset = min(info["containers"], info["elements"])
+    if info["elements"] < res.math_expected:
+        res.problems.append(f"page {res.path}: {info['elements']} math elements in the DOM, "
+                            f"{res.math_expected} in the served HTML")
+    if info["containers"] < res.math_expected:
+        res.problems.append(f"page {res.path}: MathJax typeset {info['containers']} of "
+                            f"{res.math_expected} math elements")
+    for raw in info["raw"]:
+        res.problems.append(f"page {res.path}: raw TeX left visible: {raw!r}")
+    for err in info["errors"]:
+        res.problems.append(f"page {res.path}: MathJax TeX error: {err!r}")
+    # Font requests may still be settling right after typesetting.
+    deadline = time.monotonic() + 5
+    while not fonts and time.monotonic() < deadline:
+        page.wait_for_timeout(100)
+    res.fonts_loaded = sum(1 for u, s in fonts if s == 200 and urlsplit(u).hostname == LOCAL_HOST)
+    if not res.fonts_loaded:
+        res.problems.append(f"page {res.path}: no MathJax woff font was loaded from the site")
+    for u, s in fonts:
+        if s != 200:
+            res.problems.append(f"page {res.path}: MathJax font {u} answered HTTP {s}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("html_dir", type=Path)
+    ap.add_argument("--min-pages", type=int, default=0)
+    ap.add_argument("--min-math-pages", type=int, default=0)
+    ap.add_argument("--min-images", type=int, default=0)
+    args = ap.parse_args(argv)
+    start = time.monotonic()
+    problems = check_site(args.html_dir, min_pages=args.min_pages,
+                          min_math_pages=args.min_math_pages, min_images=args.min_images,
+                          log=lambda m: print(m, flush=True))
+    if problems and not any(p.startswith("page ") or p.startswith("only ") for p in problems):
+        # Nothing was checked (no browser, no site): say so on stdout too.
+        for p in problems:
+            print(f"ERROR: {p}")
+        print("browser check: 0 passed, 0 failed")
+    print(f"({time.monotonic() - start:.1f} s)", file=sys.stderr)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

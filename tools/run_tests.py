@@ -1,0 +1,105 @@
+"""Run every test of the project (``make test``) and print one summary line with counts.
+
+Stages, in order (all run; the exit code is 1 if any failed):
+
+1. ruff        lint of src/, tests/, tools/, benchmarks/
+2. library     pytest on the library and the repository (not the site, not `slow`)
+3. nbval       strict nbval (``--nbval``) on the executed reference notebooks tests/golden/
+4. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
+5. site        pytest on the built site: no external resources, headless-Chromium check
+
+A skipped test in the site stage counts as a failure: the browser check may not be skipped.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PY = sys.executable
+REPORTS = ROOT / "_build" / "test-reports"
+
+
+@dataclass
+class Stage:
+    name: str
+    ok: bool
+    seconds: float
+    passed: int = 0
+    failed: int = 0
+    skipped: int = 0
+
+
+def _junit_counts(path: Path) -> tuple[int, int, int]:
+    if not path.exists():
+        return 0, 0, 0
+    root = ET.parse(path).getroot()
+    suites = [root] if root.tag == "testsuite" else root.findall("testsuite")
+    tests = sum(int(s.get("tests", 0)) for s in suites)
+    failed = sum(int(s.get("failures", 0)) + int(s.get("errors", 0)) for s in suites)
+    skipped = sum(int(s.get("skipped", 0)) for s in suites)
+    return tests - failed - skipped, failed, skipped
+
+
+def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | None = None,
+        skips_fail: bool = False) -> Stage:
+    print(f"\n===== {name}: {' '.join(cmd)}", flush=True)
+    t0 = time.perf_counter()
+    rc = subprocess.call(cmd, cwd=ROOT, env={**os.environ, **(env or {})})
+    dt = time.perf_counter() - t0
+    stage = Stage(name, rc == 0, dt)
+    if junit is not None:
+        stage.passed, stage.failed, stage.skipped = _junit_counts(junit)
+        if rc != 0 and stage.failed == 0:
+            stage.failed = 1  # collection error, crash or "no tests ran"
+        if skips_fail and stage.skipped:
+            stage.ok = False
+            print(f"{name}: {stage.skipped} skipped test(s) count as failures here", flush=True)
+    else:
+        stage.passed, stage.failed = (1, 0) if rc == 0 else (0, 1)
+    print(f"===== {name}: {'ok' if stage.ok else 'FAILED'} in {dt:.1f} s", flush=True)
+    return stage
+
+
+def main() -> int:
+    REPORTS.mkdir(parents=True, exist_ok=True)
+    fast = {"FUSIONCENTER_PROFILE": "fast", "MPLBACKEND": "Agg", "PYTHONHASHSEED": "0"}
+    pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
+    site = ROOT / "_build" / "fast" / "_build" / "html"
+    t0 = time.perf_counter()
+    stages = [
+        run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks"]),
+        run("library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
+                        f"--junitxml={REPORTS / 'library.xml'}"],
+            junit=REPORTS / "library.xml", env=fast),
+        run("nbval", [*pytest, "--nbval", "--nbval-current-env",
+                      "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
+                      f"--junitxml={REPORTS / 'nbval.xml'}"],
+            junit=REPORTS / "nbval.xml", env=fast),
+        run("site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict"]),
+        run("site", [*pytest, "tests/site", "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
+            junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
+            skips_fail=True),
+    ]
+    total = time.perf_counter() - t0
+    print("\n===== make test summary")
+    for s in stages:
+        print(f"  {s.name:<11} {'ok' if s.ok else 'FAILED':<7} {s.seconds:7.1f} s   "
+              f"{s.passed} passed, {s.failed} failed, {s.skipped} skipped")
+    n_pass = sum(s.passed for s in stages)
+    n_fail = sum(s.failed for s in stages) + sum(1 for s in stages if not s.ok and not s.failed)
+    n_skip = sum(s.skipped for s in stages)
+    bad = [s.name for s in stages if not s.ok]
+    print(f"  total {total:.1f} s; stages failed: {', '.join(bad) if bad else 'none'}")
+    print(f"summary: {n_pass} passed, {n_fail} failed, {n_skip} skipped")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
