@@ -97,7 +97,7 @@ class _MathCounter(HTMLParser):
 
 
 class _QuietHandler(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, format: str, *args: object) -> None:  # noqa: A002 - stdlib signature
+    def log_message(self, format: str, *args: object) -> None:
         pass
 
 
@@ -270,6 +270,7 @@ def check_site(
                     res.problems.append(f"page {rel}: browser error: "
                                         f"{str(exc).strip().splitlines()[0]}")
                 current["page"] = None
+                res.problems = list(dict.fromkeys(res.problems))  # e.g. one 404 seen twice
                 results.append(res)
                 say(res.line())
                 for prob in res.problems:
@@ -311,7 +312,7 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
             page.wait_for_url(lambda u: urlsplit(u).path.endswith(target),
                               timeout=NAV_TIMEOUT_MS)
             page.wait_for_load_state("load")
-        except Exception as exc:  # noqa: BLE001 - any failure to follow is the finding
+        except Exception as exc:  # any failure to follow is the finding
             res.problems.append(f"page {res.path}: redirect to {refresh} not followed ({exc})")
         return
 
@@ -329,7 +330,7 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
             "() => window.MathJax && MathJax.startup && MathJax.startup.promise",
             timeout=MATHJAX_TIMEOUT_MS)
         page.evaluate("() => MathJax.startup.promise.then(() => true)")
-    except Exception as exc:  # noqa: BLE001 - a timeout or a rejected promise alike
+    except Exception as exc:  # a timeout or a rejected promise alike
         first = str(exc).strip().splitlines()[0]
         res.problems.append(f"page {res.path}: MathJax did not start/typeset "
                             f"({res.math_expected} math elements): {first}")

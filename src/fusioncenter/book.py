@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import platform
-
 from fusioncenter import figures, plotting
 from fusioncenter.profile import ENV_VAR, current_profile
 
@@ -15,7 +13,7 @@ def setup() -> str:
     plotting.use_style()
     np.set_printoptions(precision=6, suppress=True)
     profile = current_profile()
-    print(f"profile: {profile}  (set {ENV_VAR}=fast|paper; Python {platform.python_version()})")
+    print(f"profile: {profile}  (set {ENV_VAR}=fast|paper to change it)")
     return profile
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import re
+import sys
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import urlsplit
@@ -200,6 +201,7 @@ def _load_browser_check():
     spec = importlib.util.spec_from_file_location(
         "browser_check", ROOT / "tools" / "browser_check.py")
     module = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("browser_check", module)  # dataclasses look their module up there
     spec.loader.exec_module(module)
     return module
 
