@@ -15,7 +15,8 @@ reported. For each page it checks:
 * on pages whose served HTML has math elements (class ``math``: ``span.math``, ``div.math``),
   MathJax started (``MathJax.startup.promise``), produced at least one ``mjx-container`` per
   math element, left no raw TeX delimiters (``\\(``, ``\\[``, ``$$``) visible in them, reported no
-  TeX error (``mjx-merror``), and its woff fonts were loaded from the site itself.
+  TeX error (``mjx-merror``) nor undefined macro (drawn in red by MathJax's noundefined
+  extension), and its woff fonts were loaded from the site itself.
 
 Importable: ``check_site(html_dir) -> list[str]`` returns the problems (empty when all is well).
 A missing browser or playwright is a problem, never a skip. Exit status 1 on any problem.
@@ -28,6 +29,7 @@ import functools
 import http.server
 import os
 import re
+import shutil
 import socketserver
 import sys
 import threading
@@ -36,9 +38,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from html.parser import HTMLParser
 from pathlib import Path
-from urllib.parse import urlsplit
+from urllib.parse import quote, urlsplit
 
-CHROMIUM = os.environ.get("FUSIONCENTER_CHROMIUM", "/usr/bin/chromium")
+CHROMIUM = (os.environ.get("FUSIONCENTER_CHROMIUM") or shutil.which("chromium")
+            or "/usr/bin/chromium")
 CHROMIUM_ARGS = [
     "--no-sandbox",
     "--disable-gpu",
@@ -53,7 +56,7 @@ LOCAL_HOST = "127.0.0.1"
 NAV_TIMEOUT_MS = 30_000
 MATHJAX_TIMEOUT_MS = 20_000
 # Not pages: the theme's Jinja macro files that Sphinx copies into _static, and source copies.
-SKIP_DIRS = {"_static", "_sources", "_images_src"}
+SKIP_DIRS = {"_static", "_sources"}
 RAW_TEX = ("\\(", "\\)", "\\[", "\\]", "$$")
 
 
@@ -66,6 +69,7 @@ class PageResult:
     images: int = 0
     images_ok: int = 0
     fonts_loaded: int = 0
+    failed_urls: list[str] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -129,7 +133,7 @@ async () => {
 """
 
 # Runs after MathJax.startup.promise resolved: inspect every math element.
-_MATH_JS = """
+_MATH_JS = r"""
 async (rawTex) => {
   if (document.fonts && document.fonts.ready) { await document.fonts.ready; }
   const els = Array.from(document.querySelectorAll('.math'));
@@ -143,9 +147,19 @@ async (rawTex) => {
   }
   const errors = Array.from(document.querySelectorAll('mjx-merror')).map(
     e => (e.getAttribute('data-mjx-error') || e.textContent || '').slice(0, 80));
+  // MathJax's noundefined extension renders an unknown macro as red text, not as an error.
+  const undefinedMacros = [];
+  try {
+    for (const item of MathJax.startup.document.math) {
+      const mml = MathJax.startup.toMML(item.root);
+      for (const m of mml.matchAll(/<mtext mathcolor="red">(\\[A-Za-z]+)<\/mtext>/g)) {
+        undefinedMacros.push(m[1]);
+      }
+    }
+  } catch (e) { undefinedMacros.push('(could not inspect MathJax output: ' + e + ')'); }
   return {elements: els.length,
           containers: document.querySelectorAll('mjx-container').length,
-          raw: raw, errors: errors};
+          raw: raw, errors: errors, undefinedMacros: [...new Set(undefinedMacros)]};
 }
 """
 
@@ -242,12 +256,14 @@ def check_site(
                     fonts.append((url, resp.status))
                 if res is None or resp.status < 400 or "favicon" in url:
                     return
+                res.failed_urls.append(url)
                 res.problems.append(f"page {res.path}: HTTP {resp.status} for {url}")
 
             def on_requestfailed(req) -> None:
                 res = current["page"]
                 if res is None or req.url in aborted or "favicon" in req.url:
                     return
+                res.failed_urls.append(req.url)
                 res.problems.append(f"page {res.path}: request failed: {req.url} "
                                     f"({req.failure})")
 
@@ -265,7 +281,7 @@ def check_site(
                 current["page"] = res
                 fonts.clear()
                 try:
-                    _check_page(page, base + rel, res, parser.refresh_target, fonts)
+                    _check_page(page, base + quote(rel), res, parser.refresh_target, fonts)
                 except PlaywrightError as exc:
                     res.problems.append(f"page {rel}: browser error: "
                                         f"{str(exc).strip().splitlines()[0]}")
@@ -325,10 +341,12 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
 
     if not res.math_expected:
         return
+    # If a MathJax file already failed to load, do not wait the full timeout for it.
+    mathjax_broken = any("mathjax" in u.lower() for u in res.failed_urls)
     try:
         page.wait_for_function(
             "() => window.MathJax && MathJax.startup && MathJax.startup.promise",
-            timeout=MATHJAX_TIMEOUT_MS)
+            timeout=2_000 if mathjax_broken else MATHJAX_TIMEOUT_MS)
         page.evaluate("() => MathJax.startup.promise.then(() => true)")
     except Exception as exc:  # a timeout or a rejected promise alike
         first = str(exc).strip().splitlines()[0]
@@ -347,6 +365,8 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
         res.problems.append(f"page {res.path}: raw TeX left visible: {raw!r}")
     for err in info["errors"]:
         res.problems.append(f"page {res.path}: MathJax TeX error: {err!r}")
+    for macro in info["undefinedMacros"]:
+        res.problems.append(f"page {res.path}: undefined TeX macro {macro} (shown in red)")
     # Font requests may still be settling right after typesetting.
     deadline = time.monotonic() + 5
     while not fonts and time.monotonic() < deadline:

@@ -74,7 +74,8 @@ def main() -> int:
     site = ROOT / "_build" / "fast" / "_build" / "html"
     t0 = time.perf_counter()
     stages = [
-        run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks", "book/_ext"]),
+        run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
+                     "book/_ext"]),
         run("library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
                         f"--junitxml={REPORTS / 'library.xml'}"],
             junit=REPORTS / "library.xml", env=fast),
