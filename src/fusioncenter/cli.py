@@ -18,9 +18,12 @@ import sys
 import time
 from pathlib import Path
 
+import matplotlib
 import numpy as np
 
-from fusioncenter import figures
+matplotlib.use("Agg")  # the command line only writes files; before pyplot is imported anywhere
+
+from fusioncenter import figures  # noqa: E402
 from fusioncenter.profile import PROFILES
 
 

@@ -4,6 +4,9 @@ Colours are the Okabe–Ito palette (distinguishable with the common colour-visi
 cycled together with line styles and markers so curves stay apart in greyscale too. Every
 registry ``plot`` builds its figure with :func:`subplots` and hands it to :func:`finish`, which
 refuses a figure with an unlabelled axis.
+
+The backend is left alone: notebooks keep their inline backend, and the command line selects
+Agg itself (``fusioncenter.cli``).
 """
 
 from __future__ import annotations
@@ -11,11 +14,8 @@ from __future__ import annotations
 from contextlib import contextmanager
 
 import matplotlib
-
-matplotlib.use("Agg", force=False)
-
-import matplotlib.pyplot as plt  # noqa: E402
-from cycler import cycler  # noqa: E402
+import matplotlib.pyplot as plt
+from cycler import cycler
 
 __all__ = ["OKABE_ITO", "MARKERS", "RC", "style", "use_style", "subplots", "finish", "errorband"]
 
