@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
 
     out = OUTPUTS[args.profile]
     prepare(out, args.profile)
-    env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, MPLBACKEND="Agg",
+    env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile,
                PYTHONHASHSEED="0")
     jb = Path(sys.executable).with_name("jupyter-book")
     cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html"]

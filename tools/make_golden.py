@@ -52,7 +52,6 @@ def build(docname: str) -> Path:
                                  "language": "python"}
     env_before = os.environ.get("FUSIONCENTER_PROFILE")
     os.environ["FUSIONCENTER_PROFILE"] = "fast"
-    os.environ.setdefault("MPLBACKEND", "Agg")
     try:
         NotebookClient(nb, timeout=1800, kernel_name="python3",
                        resources={"metadata": {"path": str(src.parent)}}).execute()

@@ -69,7 +69,7 @@ def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | Non
 
 def main() -> int:
     REPORTS.mkdir(parents=True, exist_ok=True)
-    fast = {"FUSIONCENTER_PROFILE": "fast", "MPLBACKEND": "Agg", "PYTHONHASHSEED": "0"}
+    fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
     site = ROOT / "_build" / "fast" / "_build" / "html"
     t0 = time.perf_counter()

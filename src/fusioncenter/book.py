@@ -6,10 +6,22 @@ from fusioncenter import figures, plotting
 from fusioncenter.profile import ENV_VAR, current_profile
 
 
+def _inline_figures() -> None:
+    """In a notebook kernel, display figures inline even if MPLBACKEND says otherwise."""
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover (IPython comes with the book's environment)
+        return
+    shell = get_ipython()
+    if shell is not None and type(shell).__name__ == "ZMQInteractiveShell":
+        shell.run_line_magic("matplotlib", "inline")
+
+
 def setup() -> str:
     """Apply the plotting style and print (and return) the profile this chapter runs in."""
     import numpy as np
 
+    _inline_figures()
     plotting.use_style()
     np.set_printoptions(precision=6, suppress=True)
     profile = current_profile()
