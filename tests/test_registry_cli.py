@@ -14,13 +14,21 @@ from fusioncenter import figures
 from fusioncenter.cli import main
 from fusioncenter.figures.scorecard import scorecard_markdown, status_counts
 
-OUR_OWN = {"background-riccati", "background-kf-montecarlo"}
+OUR_OWN = {"background-riccati", "background-kf-montecarlo", "mo2015-rate", "mo2015-tradeoff",
+           "mo2015-tracking"}
 
 
 def test_registry_ids_are_exactly_the_papers_plus_our_own():
-    expected = set(figures.PAPER_IDS) | OUR_OWN
+    from fusioncenter.figures.registry import own_ids
+
+    own = own_ids()
+    assert OUR_OWN <= own
+    assert not own & set(figures.PAPER_IDS)
+    expected = set(figures.PAPER_IDS) | own
     assert set(figures.ids()) == expected
     assert len(figures.ids()) == len(expected)  # no duplicates
+    for entry_id in own:
+        assert figures.get(entry_id).paper in {entry_id.split("-")[0], "book"}, entry_id
     assert len(figures.PAPER_IDS) == 4 + 10 + 10 + 3
 
 
@@ -47,7 +55,25 @@ def test_entry_validation():
         figures.Entry(id="x", paper="book", kind="figure", caption="c", chapter="book/x",
                       status="reproduced")
     with pytest.raises(ValueError, match="duplicate"):
-        figures.register(figures.get("dey2009-fig1"))
+        figures.register(figures.get("background-riccati"))
+
+
+def test_real_entry_replaces_placeholder_in_either_order(monkeypatch):
+    from fusioncenter.figures import registry
+
+    real = figures.get("background-riccati")
+    monkeypatch.setattr(registry, "REGISTRY", {})
+    monkeypatch.setattr(registry, "_PLACEHOLDERS", set())
+    fake_real = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="c",
+                              chapter="book/x", compute=real.compute, plot=real.plot,
+                              checks=real.checks, status="reproduced")
+    holder = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="c", chapter="book/x")
+    registry.register(holder, placeholder=True)
+    assert registry.register(fake_real) is fake_real  # replaces the placeholder
+    assert registry.register(holder, placeholder=True) is fake_real  # placeholder comes too late
+    assert registry.REGISTRY["x-fig1"] is fake_real
+    with pytest.raises(ValueError, match="duplicate"):
+        registry.register(fake_real)
 
 
 def test_unknown_id_suggests_near_matches():
@@ -92,13 +118,21 @@ def test_compute_is_reproducible_and_seeded():
         entry.run_compute("fast", seed=-1)
 
 
+def test_scorecard_of_a_paper_without_entries(monkeypatch):
+    from fusioncenter.figures import registry
+
+    figures.ids()
+    monkeypatch.setattr(registry, "REGISTRY", {})
+    assert "No registry entries" in scorecard_markdown("zheng2014")
+
+
 def test_scorecard():
     table = scorecard_markdown()
     for entry_id in figures.ids():
         assert f"`{entry_id}`" in table
     counts = status_counts()
     assert sum(counts.values()) == len(figures.ids())
-    assert "No registry entries" in scorecard_markdown("mo2015")
+    assert "No registry entries" not in table
     with pytest.raises(ValueError, match="paper"):
         scorecard_markdown("nobody")
 
@@ -137,7 +171,7 @@ def test_cli_plot_and_verify(capsys, tmp_path):
     [
         ["compute", "no-such-figure", "--json"],
         ["verify", "zheng2014-fig1"],
-        ["plot", "dey2009-fig1", "-o", "/tmp/never"],
+        ["plot", "zheng2014-fig3", "-o", "/tmp/never"],
         ["compute", "background-riccati", "--json", "--seed", "-4"],
     ],
 )

@@ -4,6 +4,9 @@ In all four papers the question is what the fusion centre can compute from what 
 chose, or managed, to send. One module per topic:
 
 - :mod:`fusioncenter.riccati`     Kalman covariance (Riccati) recursions and steady states
+- :mod:`fusioncenter.kalman`      a linear-Gaussian model and its Kalman filter, batched over trials
+- :mod:`fusioncenter.event`       the stochastic event trigger and its exact filter (mo2015)
+- :mod:`fusioncenter.models`      shared example models (the tracking model of zheng2014)
 - :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
 - :mod:`fusioncenter.figures`     the registry of every figure and table of the papers
 - :mod:`fusioncenter.plotting`    the one plotting style

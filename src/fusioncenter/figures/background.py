@@ -12,6 +12,7 @@ from fusioncenter.kalman import constant_velocity
 from fusioncenter.profile import by_profile
 
 CHAPTER = "book/background/kalman-riccati"
+OWN_IDS = ("background-riccati", "background-kf-montecarlo")
 
 #: Scalar example: an unstable scalar system observed in noise (a = 1.25 as in dey2009).
 SCALAR = {"a": 1.25, "q": 1.0, "c": 1.0, "r": 4.0, "p0": 0.0, "steps": 30}

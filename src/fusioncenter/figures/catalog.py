@@ -28,7 +28,7 @@ for _id, _cap, _par in [
      _dey_multi),
 ]:
     register(Entry(id=_id, paper="dey2009", kind="figure", caption=_cap, chapter=_DEY,
-                   parameters=dict(_par)))
+                   parameters=dict(_par)), placeholder=True)
 
 for _id, _cap in [
     ("leong2011-fig1", "Steady-state error P_inf against the number of sensors M compared with "
@@ -52,7 +52,8 @@ for _id, _cap in [
     ("leong2011-fig6b", "Orthogonal access with fading: full channel-state information vs none, "
      "sum-power constraint."),
 ]:
-    register(Entry(id=_id, paper="leong2011", kind="figure", caption=_cap, chapter=_LEONG))
+    register(Entry(id=_id, paper="leong2011", kind="figure", caption=_cap, chapter=_LEONG),
+             placeholder=True)
 
 _z_lin = {"N": 2, "T": 20, "trials": 5000, "particles": 1000}
 for _id, _kind, _cap, _par in [
@@ -85,4 +86,4 @@ for _id, _kind, _cap, _par in [
      "CFwMD vs CFwMD2.", {"N": 9}),
 ]:
     register(Entry(id=_id, paper="zheng2014", kind=_kind, caption=_cap, chapter=_ZHENG,
-                   parameters=dict(_par)))
+                   parameters=dict(_par)), placeholder=True)

@@ -139,12 +139,29 @@ class Entry:
 
 
 REGISTRY: dict[str, Entry] = {}
+_PLACEHOLDERS: set[str] = set()
 
 
-def register(entry: Entry) -> Entry:
-    if entry.id in REGISTRY:
-        raise ValueError(f"duplicate registry id {entry.id!r}")
+def register(entry: Entry, *, placeholder: bool = False) -> Entry:
+    """Add ``entry`` to the registry.
+
+    The catalog registers every paper figure as a ``placeholder`` (``not-started``); a topic
+    module that implements the figure registers the real entry under the same id, which replaces
+    the placeholder whichever is imported first. Any other repeated id is an error.
+    """
+    existing = REGISTRY.get(entry.id)
+    if existing is not None:
+        if placeholder:
+            return existing  # the real entry is already there
+        if entry.id not in _PLACEHOLDERS:
+            raise ValueError(f"duplicate registry id {entry.id!r}")
+    if placeholder and entry.status != "not-started":
+        raise ValueError(f"placeholder {entry.id!r} must be 'not-started'")
     REGISTRY[entry.id] = entry
+    if placeholder:
+        _PLACEHOLDERS.add(entry.id)
+    else:
+        _PLACEHOLDERS.discard(entry.id)
     return entry
 
 
@@ -162,16 +179,39 @@ def get(entry_id: str) -> Entry:
         ) from None
 
 
-def ids() -> list[str]:
+def own_ids() -> set[str]:
+    """Ids of the book's own figures, as declared by the modules' ``OWN_IDS``."""
+    import importlib
+
     _load()
-    return list(REGISTRY)
+    out: set[str] = set()
+    for name in _MODULES:
+        out |= set(getattr(importlib.import_module(f"fusioncenter.figures.{name}"), "OWN_IDS", ()))
+    return out
+
+
+def _order(entry: Entry) -> tuple:
+    from fusioncenter.figures import PAPER_IDS
+
+    paper_rank = list(PAPERS).index(entry.paper)
+    id_rank = PAPER_IDS.index(entry.id) if entry.id in PAPER_IDS else len(PAPER_IDS)
+    return (paper_rank, id_rank)
+
+
+def ids() -> list[str]:
+    return [e.id for e in entries()]
 
 
 def entries() -> list[Entry]:
+    """Every entry, ordered by paper (as in ``PAPERS``), then as the paper numbers them."""
     _load()
-    return list(REGISTRY.values())
+    return sorted(REGISTRY.values(), key=_order)  # stable: own entries keep their order
 
 
+#: Modules that register entries: the book's own, one per part, and last the catalog of
+#: placeholders for paper figures no module implements yet. Each may list the ids of the book's
+#: own figures it registers in ``OWN_IDS``.
+_MODULES = ("background", "mo2015", "dey2009", "leong2011", "catalog")
 _LOADED = False
 
 
@@ -181,4 +221,7 @@ def _load() -> None:
     if _LOADED:
         return
     _LOADED = True
-    from fusioncenter.figures import background, catalog  # noqa: F401
+    import importlib
+
+    for name in _MODULES:
+        importlib.import_module(f"fusioncenter.figures.{name}")
