@@ -7,6 +7,10 @@ chose, or managed, to send. One module per topic:
 - :mod:`fusioncenter.kalman`      a linear-Gaussian model and its Kalman filter, batched over trials
 - :mod:`fusioncenter.event`       the stochastic event trigger and its exact filter (mo2015)
 - :mod:`fusioncenter.models`      shared example models (the tracking model of zheng2014)
+- :mod:`fusioncenter.fading`      fading laws, the random Riccati recursion and its bounds (dey2009)
+- :mod:`fusioncenter.power`       steady state, 1/M laws and power allocation (leong2011)
+- :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014)
+- :mod:`fusioncenter.particle`    a particle filter vectorized over trials and particles
 - :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
 - :mod:`fusioncenter.figures`     the registry of every figure and table of the papers
 - :mod:`fusioncenter.plotting`    the one plotting style

@@ -1,0 +1,364 @@
+"""A bootstrap particle filter vectorized across Monte Carlo trials.
+
+The design follows Chopin's ``particles`` package: the *model* (initial law, transition, the
+log-likelihood of whatever the fusion centre received) is kept apart from the *algorithm* (the
+one sequential Monte Carlo loop :func:`run_filter`), with one more leading axis for Monte Carlo
+trials. Shapes:
+
+* particles ``x``: ``(n, P, d)`` -- ``n`` independent trials, ``P`` particles, state dimension
+  ``d``;
+* log weights ``logw``: ``(n, P)``; every trial is normalized on its own (log-sum-exp);
+* per-trial uniforms ``u``: ``(n,)`` (one systematic-resampling uniform per trial and step).
+
+Everything that touches one trial's particles uses only that trial's row, so splitting the trials
+into blocks (as :func:`fusioncenter.montecarlo.simulate` does) never changes a row's result.
+
+A model for :func:`run_filter` is any object with (see :class:`FilterModel`)
+
+* ``dim`` -- the state dimension ``d``;
+* ``initial(rng, n, P) -> (n, P, d)`` -- draw the particles of the prior of ``x_0``;
+* ``transition(rng, t, x) -> (n, P, d)`` -- draw ``x_t`` given ``x_{t-1}`` for every particle;
+* ``log_weight(t, x) -> (n, P)`` -- the incremental log weight at time ``t`` (the log-likelihood
+  of the data received at ``t``; additive constants may be dropped);
+* ``observe(t, mean, cov)`` -- called after weighting with the filter's estimate ``E[x_t | data]``
+  ``(n, d)`` and its covariance ``(n, d, d)``: this is where a fusion centre records its estimate
+  and prepares what it feeds back to the sensors for time ``t + 1``. May do nothing;
+* optional ``needs_cov`` (default ``True``): ``False`` skips the weighted covariance (then
+  ``observe`` receives ``cov=None`` and :attr:`FilterOutput.cov` is NaN).
+
+Functions (signature, one line each):
+
+* ``log_normalize(logw) -> (logw_normalized, log_sum)``: log-sum-exp over the last axis.
+* ``ess(logw) -> (...)``: effective sample size ``1 / sum w^2`` of (any) log weights.
+* ``systematic_counts(logw, u) -> int (..., P)``: offspring counts of systematic resampling.
+* ``systematic_resample(logw, u) -> int (..., P)``: ancestor indices (sorted within a row).
+* ``resample(x, idx)``: ``x[..., idx, :]`` row by row.
+* ``weighted_mean(x, logw)``, ``weighted_mean_cov(x, logw)``: posterior mean (and covariance).
+* ``LinearGaussianDynamics(F, Q, m0, P0)``: ``x_0 ~ N(m0, P0)``, ``x_t = F x_{t-1} + u``,
+  ``u ~ N(0, Q)``; its ``initial`` / ``transition`` draw only ``rank(P0)`` / ``rank(Q)`` normals
+  per particle.
+* ``run_filter(model, rng, n_trials, n_particles, steps, *, ess_threshold=1.0) -> FilterOutput``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+__all__ = [
+    "log_normalize",
+    "ess",
+    "systematic_counts",
+    "systematic_resample",
+    "resample",
+    "weighted_mean",
+    "weighted_mean_cov",
+    "psd_factor",
+    "LinearGaussianDynamics",
+    "FilterModel",
+    "FilterOutput",
+    "run_filter",
+]
+
+
+# ----------------------------------------------------------------------------- weights
+def log_normalize(logw):
+    """Normalize log weights over the last axis: ``(logw - log sum exp logw, log sum exp logw)``.
+
+    The maximum is subtracted before exponentiating, so weights never overflow and at least one
+    weight per row is exactly representable. A row whose weights are all zero (all ``-inf``: no
+    particle is compatible with the data) has no normalization; it is returned as *uniform*
+    weights with ``log_sum = -inf``, so the caller can detect and count the collapse (the filter
+    then simply ignores that step's data for that trial).
+    """
+    logw = np.asarray(logw, dtype=float)
+    if logw.ndim < 1 or logw.shape[-1] < 1:
+        raise ValueError(f"logw must have at least one particle on its last axis, got {logw.shape}")
+    if np.any(np.isnan(logw)) or np.any(logw == np.inf):
+        raise ValueError("logw must not contain NaN or +inf")
+    mx = logw.max(axis=-1, keepdims=True)
+    dead = mx == -np.inf
+    mx_safe = np.where(dead, 0.0, mx)
+    with np.errstate(divide="ignore"):
+        lse = mx_safe + np.log(np.exp(logw - mx_safe).sum(axis=-1, keepdims=True))
+    out = np.where(dead, -np.log(logw.shape[-1]), logw - np.where(dead, 0.0, lse))
+    lse = np.where(dead, -np.inf, lse)
+    return out, lse[..., 0]
+
+
+def ess(logw):
+    """Effective sample size ``1 / sum_j w_j^2`` per row (weights normalized first), in [1, P]."""
+    lw, _ = log_normalize(logw)
+    return np.exp(-np.log(np.exp(2.0 * lw).sum(axis=-1)))
+
+
+def _check_u(u, lead: tuple[int, ...]) -> np.ndarray:
+    u = np.asarray(u, dtype=float)
+    if u.shape != lead:
+        raise ValueError(f"u must have one uniform per row, shape {lead}, got {u.shape}")
+    if np.any((u < 0) | (u >= 1)) or not np.all(np.isfinite(u)):
+        raise ValueError("u must lie in [0, 1)")
+    return u
+
+
+def systematic_counts(logw, u) -> np.ndarray:
+    """Number of offspring of each particle under systematic resampling, ``int64 (..., P)``.
+
+    Row ``b`` places the ``P`` points ``(u_b + i) / P``, ``i = 0..P-1``, on the cumulative
+    normalized weights ``c_j``; particle ``j`` gets the points in ``[c_{j-1}, c_j)``:
+    ``count_j = ceil(P c_j - u) - ceil(P c_{j-1} - u)`` (with ``c_{-1} = 0`` and ``c_{P-1} = 1``
+    set exactly, so every row's counts sum to ``P``). ``E[count_j] = P w_j`` for ``u ~ U[0, 1)``
+    (unbiased), and ``|count_j - P w_j| < 1``. Rows are computed independently of each other
+    (sequential ``cumsum`` within a row), so the result of a row does not depend on which other
+    rows are in the batch.
+    """
+    lw, _ = log_normalize(logw)
+    u = _check_u(u, lw.shape[:-1])
+    return _counts(np.exp(lw), u)
+
+
+def _counts(w, u) -> np.ndarray:
+    """Systematic offspring counts from *normalized* weights ``w (..., P)``; no checks."""
+    P = w.shape[-1]
+    c = np.cumsum(w, axis=-1)
+    c /= c[..., -1:]
+    c[..., -1] = 1.0
+    edges = np.ceil(P * c - u[..., None])
+    return np.diff(edges, axis=-1, prepend=0.0).astype(np.int64)
+
+
+def _systematic_flat(w, u) -> np.ndarray:
+    """Ancestor indices into the flattened ``(n * P)`` particles, from normalized ``w (n, P)``."""
+    counts = _counts(w, u)
+    return np.repeat(np.arange(counts.size), counts.ravel())
+
+
+def systematic_resample(logw, u) -> np.ndarray:
+    """Ancestor indices ``int64 (..., P)`` of systematic resampling (see :func:`systematic_counts`).
+
+    Within each row the indices are non-decreasing. Vectorized: one ``np.repeat`` over all rows
+    (every row's counts sum to ``P``, so the flat result splits back into rows).
+    """
+    counts = systematic_counts(logw, u)
+    P = counts.shape[-1]
+    flat = counts.reshape(-1, P)
+    idx = np.repeat(np.tile(np.arange(P), flat.shape[0]), flat.ravel())
+    return idx.reshape(counts.shape)
+
+
+def resample(x, idx) -> np.ndarray:
+    """Select particles row by row: ``out[..., j, :] = x[..., idx[..., j], :]``."""
+    x = np.asarray(x)
+    idx = np.asarray(idx)
+    return np.take_along_axis(x, idx[..., None], axis=-2)
+
+
+def weighted_mean(x, logw) -> np.ndarray:
+    """``sum_j w_j x_j`` per row: ``x (..., P, d)``, ``logw (..., P)`` -> ``(..., d)``."""
+    lw, _ = log_normalize(logw)
+    w = np.exp(lw)
+    return (w[..., None, :] @ x)[..., 0, :]
+
+
+def weighted_mean_cov(x, logw) -> tuple[np.ndarray, np.ndarray]:
+    """Weighted mean ``(..., d)`` and covariance ``sum_j w_j (x_j - m)(x_j - m)^T`` ``(..., d, d)``.
+
+    The covariance is the plug-in (biased, normalized by ``sum w = 1``) estimate, symmetrized.
+    """
+    lw, _ = log_normalize(logw)
+    w = np.exp(lw)
+    mean = (w[..., None, :] @ x)[..., 0, :]
+    dev = x - mean[..., None, :]
+    cov = np.swapaxes(dev * w[..., None], -1, -2) @ dev
+    cov = 0.5 * (cov + np.swapaxes(cov, -1, -2))
+    return mean, cov
+
+
+# ----------------------------------------------------------------------------- dynamics
+def psd_factor(M, *, rtol: float = 1e-12) -> np.ndarray:
+    """A thin factor ``L`` (``d x rank``) with ``L L^T = M`` for a symmetric PSD matrix ``M``.
+
+    Eigenvalues below ``rtol * max(eig)`` are treated as zero and their columns dropped, so a
+    rank-deficient ``M`` (e.g. zheng2014's white-noise-acceleration ``Q``, rank 1) is sampled with
+    ``rank`` normals per draw. ``M = 0`` gives a ``d x 0`` factor.
+    """
+    M = np.asarray(M, dtype=float)
+    w, V = np.linalg.eigh(0.5 * (M + M.T))
+    top = max(float(w.max(initial=0.0)), 0.0)
+    keep = w > rtol * top if top > 0 else np.zeros_like(w, dtype=bool)
+    return V[:, keep] * np.sqrt(w[keep])
+
+
+def _matrix(name: str, value, shape=None) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim != 2 or (shape is not None and arr.shape != shape):
+        raise ValueError(f"{name} must be a matrix of shape {shape}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite")
+    return arr
+
+
+def _psd(name: str, value, d: int) -> np.ndarray:
+    arr = _matrix(name, value, (d, d))
+    scale = max(1.0, float(np.abs(arr).max()))
+    if np.any(np.abs(arr - arr.T) > 1e-10 * scale):
+        raise ValueError(f"{name} must be symmetric")
+    arr = 0.5 * (arr + arr.T)
+    if np.linalg.eigvalsh(arr).min() < -1e-10 * scale:
+        raise ValueError(f"{name} must be positive semi-definite (a covariance)")
+    return arr
+
+
+@dataclass(frozen=True)
+class LinearGaussianDynamics:
+    """``x_0 ~ N(m0, P0)``, ``x_t = F x_{t-1} + u_{t-1}``, ``u ~ N(0, Q)`` (zheng2014 eq. (1)).
+
+    The initial law and the transition of a :class:`FilterModel`; a scenario combines it with its
+    observation model. ``Q`` and ``P0`` may be singular (only ``rank`` normals are drawn).
+    """
+
+    F: np.ndarray
+    Q: np.ndarray
+    m0: np.ndarray
+    P0: np.ndarray
+
+    def __post_init__(self) -> None:
+        F = _matrix("F", self.F)
+        d = F.shape[0]
+        if F.shape != (d, d):
+            raise ValueError(f"F must be square, got {F.shape}")
+        m0 = np.asarray(self.m0, dtype=float).reshape(-1)
+        if m0.shape != (d,) or not np.all(np.isfinite(m0)):
+            raise ValueError(f"m0 must be a finite vector of length {d}, got {self.m0!r}")
+        object.__setattr__(self, "F", F)
+        object.__setattr__(self, "Q", _psd("Q", self.Q, d))
+        object.__setattr__(self, "m0", m0)
+        object.__setattr__(self, "P0", _psd("P0", self.P0, d))
+        object.__setattr__(self, "_LQ", psd_factor(self.Q))
+        object.__setattr__(self, "_L0", psd_factor(self.P0))
+
+    @property
+    def dim(self) -> int:
+        return self.F.shape[0]
+
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
+        """``(n, P, d)`` draws from ``N(m0, P0)`` (no random numbers used when ``P0 = 0``)."""
+        x = np.broadcast_to(self.m0, (n, P, self.dim)).copy()
+        if self._L0.shape[1]:
+            x += rng.standard_normal((n, P, self._L0.shape[1])) @ self._L0.T
+        return x
+
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
+        """``F x + u`` for every particle; ``x (..., d)``."""
+        # stacked matmul: one small BLAS call per trial (a single (n P) x d product would be
+        # split over BLAS threads, which is slow for d = 2 on a busy machine)
+        out = x @ self.F.T
+        k = self._LQ.shape[1]
+        if k:
+            out += rng.standard_normal((*x.shape[:-1], k)) @ self._LQ.T
+        return out
+
+
+# ----------------------------------------------------------------------------- the loop
+class FilterModel(Protocol):
+    """What :func:`run_filter` needs from a model (see the module docstring)."""
+
+    dim: int
+
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray: ...
+
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray: ...
+
+    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray: ...
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None: ...
+
+
+@dataclass(frozen=True)
+class FilterOutput:
+    """Output of :func:`run_filter` for ``n`` trials and times ``t = 1..steps``.
+
+    ``mean (n, steps, d)`` and ``cov (n, steps, d, d)``: the weighted estimate of ``x_t`` given
+    the data up to ``t`` (before resampling); ``ess (n, steps)``: effective sample size after
+    weighting; ``log_evidence (n,)``: ``sum_t log(mean_j w_{t,j})`` (the log-likelihood of the
+    data under the weights' model, up to the constants the model dropped); ``collapsed
+    (n, steps)``: no particle had positive weight (the step's data were ignored for that trial).
+    """
+
+    mean: np.ndarray
+    cov: np.ndarray
+    ess: np.ndarray
+    log_evidence: np.ndarray
+    collapsed: np.ndarray
+
+
+def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_particles: int,
+               steps: int, *, ess_threshold: float = 1.0) -> FilterOutput:
+    """The bootstrap particle filter (zheng2014 Algorithm 1, steps A1.3--A1.6) on ``n_trials``.
+
+    For ``t = 1..steps``: propagate every particle (``model.transition``), add
+    ``model.log_weight(t, x)``, normalize (log-sum-exp), estimate the mean and covariance, tell
+    the model (``model.observe``), then resample (systematic, one uniform per trial) the trials
+    whose ESS is at most ``ess_threshold * n_particles`` (``1.0``: every step whatever the ESS,
+    as Algorithm 1 does; ``0.0``: never). Resampling is :func:`systematic_counts` applied to every
+    trial's row at once, then one gather of the flattened particles. The uniforms are drawn at every
+    step for every trial whether used or not, so the random stream does not depend on the data.
+
+    Random-number order per step: ``model.transition`` draws first, then ``u (n_trials,)``.
+    """
+    for name, value in (("n_trials", n_trials), ("n_particles", n_particles)):
+        if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    if isinstance(steps, bool) or not isinstance(steps, int | np.integer) or steps < 0:
+        raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+    if not 0.0 <= ess_threshold <= 1.0:
+        raise ValueError(f"ess_threshold must lie in [0, 1], got {ess_threshold}")
+    n, P, d = int(n_trials), int(n_particles), int(model.dim)
+    need_cov = bool(getattr(model, "needs_cov", True))
+    means = np.empty((n, steps, d))
+    covs = np.full((n, steps, d, d), np.nan)
+    esss = np.empty((n, steps))
+    collapsed = np.zeros((n, steps), dtype=bool)
+    log_ev = np.zeros(n)
+    x = model.initial(rng, n, P)
+    if x.shape != (n, P, d):
+        raise ValueError(f"model.initial returned shape {x.shape}, expected {(n, P, d)}")
+    logw = np.full((n, P), -np.log(P))  # normalized uniform
+    for t in range(1, steps + 1):
+        x = model.transition(rng, t, x)
+        u = rng.random(n)
+        inc = np.asarray(model.log_weight(t, x), dtype=float)
+        if inc.shape != (n, P):
+            raise ValueError(f"model.log_weight returned shape {inc.shape}, expected {(n, P)}")
+        lw, lse = log_normalize(logw + inc)
+        dead = lse == -np.inf
+        collapsed[:, t - 1] = dead
+        log_ev += np.where(dead, 0.0, lse)
+        w = np.exp(lw)
+        mean = (w[:, None, :] @ x)[:, 0, :]
+        means[:, t - 1] = mean
+        if need_cov:
+            dt = np.swapaxes(x, -1, -2) - mean[:, :, None]  # (n, d, P), contiguous
+            cov = (dt * w[:, None, :]) @ np.swapaxes(dt, -1, -2)
+            cov = 0.5 * (cov + np.swapaxes(cov, -1, -2))
+            covs[:, t - 1] = cov
+        else:
+            cov = None
+        e = 1.0 / np.square(w).sum(axis=-1)
+        esss[:, t - 1] = e
+        model.observe(t, mean, cov)
+        todo = np.ones(n, dtype=bool) if ess_threshold >= 1.0 else e <= ess_threshold * P
+        if np.all(todo):
+            flat = _systematic_flat(w, u)
+            x = np.take(x.reshape(n * P, d), flat, axis=0).reshape(n, P, d)
+            logw = np.full((n, P), -np.log(P))
+        elif np.any(todo):
+            sub = x[todo]
+            flat = _systematic_flat(w[todo], u[todo])
+            x[todo] = np.take(sub.reshape(-1, d), flat, axis=0).reshape(sub.shape)
+            logw = np.where(todo[:, None], -np.log(P), lw)
+        else:
+            logw = lw
+    return FilterOutput(mean=means, cov=covs, ess=esss, log_evidence=log_ev, collapsed=collapsed)
