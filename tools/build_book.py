@@ -48,8 +48,8 @@ def prepare(out: Path, profile: str) -> None:
                   f"removing {build.relative_to(ROOT)} (HTML, doctrees, execution cache)",
                   file=sys.stderr)
             for child in build.iterdir():
-                if out == ROOT and child.name == "fast":
-                    continue  # the fast build lives inside the paper build's folder
+                if out == ROOT and child.name in ("fast", "test-reports"):
+                    continue  # the fast build and test reports live in the paper build's folder
                 shutil.rmtree(child) if child.is_dir() else child.unlink()
     build.mkdir(parents=True, exist_ok=True)
     stamp.write_text(want + "\n")
