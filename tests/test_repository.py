@@ -61,7 +61,7 @@ def test_environment_yml_uses_python_311_and_the_same_lock():
 def test_toc_has_the_parts_in_order():
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
     captions = [p["caption"] for p in toc["parts"]]
-    expected = ["Introduction", "Background", "Part I", "Part II", "Part III", "Part IV",
+    expected = ["Introduction", "Background", "Part I", "Part II", "Part III", "Part IV", "Part V",
                 "Errata", "Reproduction scorecard", "Bibliography", "How to run and extend"]
     assert len(captions) == len(expected)
     for cap, want in zip(captions, expected, strict=True):
