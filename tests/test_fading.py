@@ -570,3 +570,33 @@ def test_vector_input_validation():
                          ({"sigma_v2": -1.0}, "sigma_v2"), ({"steps": -1}, "steps")]:
         with pytest.raises(ValueError, match=name):
             fading.vector_bound(**{**good, **change})
+
+
+@pytest.mark.parametrize("channel", [Rayleigh(100.0), Nakagami(0.5, 3.0), Nakagami(2.0, 1.0)])
+def test_scalar_chunk_matches_the_direct_recursion_on_one_draw(channel, monkeypatch):
+    """The harmonic, batched form of (15) equals the printed recursion on the same channel
+    draws: batching the draws by steps must not change which numbers are drawn."""
+    n, steps = 37, 23
+    r = channel.sample(np.random.default_rng(3), (steps, n))  # one draw of all steps
+    p = np.full(n, 0.7)
+    want = [p]
+    for k in range(steps):
+        p = 1.0 + 1.5625 * p * (r[k] * 2.0 + 4.0) / (r[k] * (p + 2.0) + 4.0)
+        want.append(p)
+    want = np.array(want).T
+    for batch_elements in (1, n * 5, 10**6):  # one step per batch, five, all
+        monkeypatch.setattr(fading, "_BATCH_ELEMENTS", batch_elements)
+        got = fading._scalar_chunk(np.random.default_rng(3), n, a=1.25, sigma_w2=1.0,
+                                   sigma_v2=2.0, sigma_n2=4.0, channel=channel, p0=0.7,
+                                   steps=steps)
+        np.testing.assert_allclose(got, want, rtol=1e-13)
+
+
+def test_scalar_chunk_limits_p0_zero_and_deep_fade():
+    class Dead(Rayleigh):  # r = 0 always: no information, p' = sigma_w2 + a^2 p
+        def sample(self, rng, size):
+            return np.zeros(size)
+
+    got = fading._scalar_chunk(np.random.default_rng(0), 2, a=2.0, sigma_w2=1.0, sigma_v2=1.0,
+                               sigma_n2=1.0, channel=Dead(1.0), p0=0.0, steps=3)
+    np.testing.assert_array_equal(got, [[0.0, 1.0, 5.0, 21.0]] * 2)

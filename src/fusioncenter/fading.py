@@ -352,16 +352,40 @@ class Nakagami:
 
 
 # ------------------------------------------------------------------------ scalar: Monte Carlo
+#: channel draws per batch of steps in :func:`_scalar_chunk` (about 0.4 MB: stays in cache)
+_BATCH_ELEMENTS = 50_000
+
+
 def _scalar_chunk(rng, n, *, a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps):
-    """``n`` paths of (15), shaped ``(n, steps + 1)``: ``p_0, ..., p_steps``."""
-    r = channel.sample(rng, (steps, n))  # time-major: each step reads one contiguous row
+    """``n`` paths of (15), shaped ``(n, steps + 1)``: ``p_0, ..., p_steps``.
+
+    (15) is evaluated in harmonic form: with ``u = r sigma_v2 + sigma_n2`` the posterior
+    variance is ``p u / (r p + u) = 1 / (1/p + r/u)``, so
+    ``p' = sigma_w2 + 1 / (1/(a^2 p) + c)`` with ``c = 1 / (a^2 (sigma_v2 + sigma_n2 / r))``.
+    ``p = 0`` and ``r = 0`` (a deep fade) are exact limits of this form (``1/0 = inf``).
+    The channel is drawn in batches of steps (time-major, so the draws are the same numbers as
+    one ``(steps, n)`` draw: the generator fills arrays in order), ``c`` is computed in place
+    for the batch, and each step is four in-place operations on one contiguous row.
+    """
     out = np.empty((steps + 1, n))
-    p = out[0] = np.full(n, p0)
-    a2 = a * a
-    for k in range(steps):
-        rk = r[k]
-        p = sigma_w2 + a2 * p * (rk * sigma_v2 + sigma_n2) / (rk * (p + sigma_v2) + sigma_n2)
-        out[k + 1] = p
+    out[0] = p0
+    tmp = np.empty(n)
+    a2, inv_a2 = a * a, 1.0 / (a * a)
+    batch = max(1, _BATCH_ELEMENTS // max(n, 1))
+    with np.errstate(divide="ignore"):
+        for k0 in range(0, steps, batch):
+            c = channel.sample(rng, (min(batch, steps - k0), n))
+            np.divide(sigma_n2, c, out=c)
+            c += sigma_v2
+            c *= a2
+            np.divide(1.0, c, out=c)
+            for j in range(c.shape[0]):
+                k = k0 + j
+                nxt = out[k + 1]
+                np.divide(inv_a2, out[k], out=tmp)
+                tmp += c[j]
+                np.divide(1.0, tmp, out=nxt)
+                nxt += sigma_w2
     return out.T
 
 
