@@ -211,7 +211,8 @@ def entries() -> list[Entry]:
 #: Modules that register entries: the book's own, one per part, and last the catalog of
 #: placeholders for paper figures no module implements yet. Each may list the ids of the book's
 #: own figures it registers in ``OWN_IDS``.
-_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "synthesis", "catalog")
+_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014_vector",
+            "zheng2014_nonlinear", "synthesis", "catalog")
 _LOADED = False
 
 
