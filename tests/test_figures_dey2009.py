@@ -3,32 +3,15 @@ pass their checks, and the checks fail on corrupted data."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
-import matplotlib.figure
-import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import dey2009
 
 PAPER = ["dey2009-fig1", "dey2009-fig2", "dey2009-fig3", "dey2009-fig4"]
 IDS = PAPER + list(dey2009.OWN_IDS)
-
-
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 def test_own_ids_and_registration():
@@ -51,29 +34,19 @@ def test_own_ids_and_registration():
 
 @pytest.mark.parametrize("entry_id", IDS)
 def test_entry_computes_plots_and_passes(entry_id):
-    entry = figures.get(entry_id)
-    d = data(entry_id)
-    fig = entry.run_plot(d)
-    assert isinstance(fig, matplotlib.figure.Figure)
-    axes = [ax for ax in fig.get_axes() if ax.has_data()]
-    assert axes
-    for ax in axes:
-        assert ax.get_xlabel() and ax.get_ylabel()
-    plt.close(fig)
-    claims = entry.run_checks(d)
-    assert len(claims) >= 5 and all(claims), [c for c in claims if not c]
+    check_entry(entry_id, paper="dey2009", chapter_prefix="book/dey2009/", min_claims=5)
 
 
 def test_paper_scale_parameters():
     assert dey2009.PATHS["paper"] == 50_000 and dey2009.STEPS == 100
-    d = _data("dey2009-fig1")
+    d = cached_data("dey2009-fig1")
     assert d["mean"].shape == (len(dey2009.SIGMA_V), 101)
     assert d["n_paths"] == dey2009.PATHS["fast"]
 
 
 def test_compute_is_seeded():
     entry = figures.get("dey2009-fig1")
-    a = _data("dey2009-fig1")
+    a = cached_data("dey2009-fig1")
     b = entry.run_compute("fast")
     np.testing.assert_array_equal(a["mean"], b["mean"])
     c = entry.run_compute("fast", seed=7)

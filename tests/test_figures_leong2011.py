@@ -3,13 +3,9 @@ labelled axes, passes its checks, and the checks fail on corrupted data."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
-import matplotlib.figure
-import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import leong2011
@@ -17,19 +13,6 @@ from fusioncenter.figures import leong2011
 IDS = ["leong2011-fig1", "leong2011-fig2", "leong2011-fig3a", "leong2011-fig3b",
        "leong2011-fig4a", "leong2011-fig4b", "leong2011-fig5a", "leong2011-fig5b",
        "leong2011-fig6a", "leong2011-fig6b"]
-
-
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 @pytest.mark.parametrize("entry_id", IDS)
@@ -42,17 +25,7 @@ def test_entry_computes_plots_and_passes(entry_id):
     assert entry.chapter == f"book/leong2011/{chapter}"
     assert entry.label == f"sec-{entry_id}"
     assert entry.parameters and entry.note
-    d = data(entry_id)
-    fig = entry.run_plot(d)
-    assert isinstance(fig, matplotlib.figure.Figure)
-    axes = [ax for ax in fig.get_axes() if ax.has_data()]
-    assert axes
-    for ax in axes:
-        assert ax.get_xlabel() and ax.get_ylabel()
-        assert "(" in ax.get_ylabel()  # units
-    plt.close(fig)
-    claims = entry.run_checks(d)
-    assert len(claims) >= 3 and all(claims), [c for c in claims if not c]
+    check_entry(entry_id, paper="leong2011", chapter_prefix="book/leong2011/")
 
 
 def test_placeholders_are_replaced_and_own_ids_empty():
@@ -63,7 +36,7 @@ def test_placeholders_are_replaced_and_own_ids_empty():
 
 def test_compute_is_seeded():
     entry = figures.get("leong2011-fig3a")
-    a = _data("leong2011-fig3a")
+    a = cached_data("leong2011-fig3a")
     b = entry.run_compute("fast")
     assert np.array_equal(a["optimal"], b["optimal"])
     c = entry.run_compute("fast", seed=7)
@@ -84,7 +57,7 @@ def test_parameters_are_the_papers():
 
 
 def test_fig1_constant_is_eq13():
-    d = _data("leong2011-fig1")
+    d = cached_data("leong2011-fig1")
     assert d["K"] == pytest.approx(0.8**2 * (1 + 1 / 0.8**2), rel=1e-14)
 
 
