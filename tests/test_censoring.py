@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from scipy import integrate
 
 from fusioncenter import censoring as cs
-from fusioncenter import particle
+from fusioncenter import montecarlo, particle
 
 GH_X, GH_W = np.polynomial.hermite_e.hermegauss(80)  # weight exp(-x^2/2)
 GH_W = GH_W / np.sqrt(2 * np.pi)
@@ -585,3 +585,152 @@ def test_run_is_finite_for_any_configuration(scheme, feedback, likelihood, l, se
                  n_trials=6, n_particles=30, seed=seed)
     assert np.all(np.isfinite(res.mc.samples))
     assert np.all((res.transmissions.value >= 0) & (res.transmissions.value <= 2))
+
+
+# ----------------------------------------------------------------------------- the fused engine
+def _engines(sc, scheme, feedback, likelihood="corrected", l=1.0, n=40, P=120, seed=5,
+             ess_threshold=1.0, block_size=16):
+    fn = functools.partial(cs._chunk, scenario=sc, scheme=scheme, feedback=feedback,
+                           likelihood=likelihood, eta=cs.threshold(l, sc.N), l=l,
+                           n_particles=P, ess_threshold=ess_threshold)
+    a = montecarlo.simulate(functools.partial(fn, engine="fused"), n, seed,
+                            block_size=block_size).samples
+    b = montecarlo.simulate(functools.partial(fn, engine="reference"), n, seed,
+                            block_size=block_size).samples
+    return a, b
+
+
+_ENGINE_CASES = [
+    *[(dict(), s, f, "corrected") for s in cs.SCHEMES for f in cs.FEEDBACK],
+    (dict(), "cfwmd", "none", "printed"),
+    *[(dict(N=4), "cfwmd", f, "corrected") for f in ("state", "state+cov")],
+    (dict(N=4), "cfwmd", "none", "printed"),
+    (dict(feedback_moments="particles"), "cfwmd", "state+cov", "corrected"),
+    (dict(feedback_moments="particles"), "cfwmd", "state", "corrected"),
+    (dict(N=3, h=((1, 0), (1, 0), (0.5, 1.0)), r=(1.0, 1.0, 2.0), P0=np.eye(2)), "cfwmd",
+     "state", "corrected"),
+    (dict(N=2, h=((1, 0), (1, 0.5))), "cfwmd", "none", "corrected"),
+    (dict(N=2, r=(1.0, 2.0), P0=np.eye(2)), "cfwmd", "none", "corrected"),
+    (dict(N=1), "cfwmd", "none", "corrected"),
+    (dict(dt=0.5, sigma2=2.0), "cfwmd", "state+cov", "corrected"),
+]
+
+
+@pytest.mark.parametrize("kw, scheme, feedback, likelihood", _ENGINE_CASES)
+def test_fused_engine_equals_the_reference_engine(monkeypatch, kw, scheme, feedback,
+                                                  likelihood):
+    """run() uses the fused filter; it draws the same random numbers as _FusionCentre through
+    particle.run_filter (sub-block by sub-block: here 5 trials each, so blocks of 16 trials have
+    four) and must give the same per-trial results, up to rounding (the interpolation tables
+    differ from the exact functions by < 1e-11 in the log weights)."""
+    monkeypatch.setattr(cs, "_SUB_PARTICLES", 5 * 120)
+    assert [r.stop - r.start for r in cs._sub_blocks(16, 120)] == [5, 5, 5, 1]
+    a, b = _engines(cs.LinearScenario(T=8, **kw), scheme, feedback, likelihood)
+    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
+
+
+def test_fused_engine_adaptive_resampling_equals_the_reference():
+    a, b = _engines(cs.LinearScenario(T=10), "cfwmd", "state", ess_threshold=0.5)
+    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
+    assert np.any(a[..., 3] < 0.5) and np.any(a[..., 3] > 0.5)
+
+
+def test_fused_engine_sub_blocks_only_split_the_random_stream(monkeypatch):
+    """Every operation of the fused filter is row-wise; the sub-blocks only decide the order in
+    which the filter's random numbers are drawn. With one sub-block per trial, the fused filter
+    equals the reference filter run trial by trial."""
+    monkeypatch.setattr(cs, "_SUB_PARTICLES", 1)
+    a, b = _engines(cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1))), "cfwmd",
+                    "state", n=12, block_size=12)
+    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
+    monkeypatch.setattr(cs, "_SUB_PARTICLES", 1 << 15)
+    c, _ = _engines(cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1))), "cfwmd",
+                    "state", n=12, block_size=12)
+    assert not np.allclose(a, c)  # another split of the stream: other draws
+
+
+@pytest.mark.parametrize("h", [1e-3, 0.05, 0.3, 0.6744897501960817, 1.0, 1.5, 2.5, 4.0, 7.0])
+def test_silent_table_matches_the_exact_log_probability(h):
+    tab = cs._silent_table(h)
+    rng = np.random.default_rng(0)
+    m = np.concatenate([rng.uniform(-8, 8, 200_000), rng.uniform(-60, 60, 50_000),
+                        np.arange(-4000, 4000) / 256, [47.999999, 48.0, 48.000001, 1e3]])
+    ref = cs._inside(m, h, log=True)
+    got = tab(m)
+    assert np.all(np.isfinite(got))
+    np.testing.assert_allclose(got, ref, rtol=1e-14, atol=5e-12)
+    # the shifted form is the same arithmetic
+    y = m.reshape(-1, 2)
+    shift = rng.normal(0, 2, y.shape[0])
+    got2 = tab.shifted(y, shift, 0.7, np.empty_like(y))
+    np.testing.assert_allclose(got2, cs._inside((y - shift[:, None]) * 0.7, h, log=True),
+                               rtol=1e-14, atol=5e-12)
+
+
+@pytest.mark.parametrize("t", [1, 2, 5, 19])
+def test_no_feedback_tables_match_the_exact_region_probability(t):
+    """The corrected Proposition 3: one sensor received (a table in c = z - h^T x) and both
+    received (per-trial interpolation in c_0), against _log_rect_prob. (At t = 0 with x_0
+    known the two local predictions are identical, the law is degenerate and the region
+    probability has kinks: the fused filter evaluates it exactly there.)"""
+    sc = cs.LinearScenario()
+    assert abs(sc.local_filters()["C"][0][0, 1] - sc.local_filters()["C"][0][0, 0]) < 1e-12
+    eta = cs.threshold(1, 2)
+    C, r = sc.local_filters()["C"][t], sc.rvec
+    a = np.sqrt(eta * (np.diag(C) + r))
+    rng = np.random.default_rng(t)
+    c = np.concatenate([rng.uniform(-10, 10, 4000), rng.uniform(-50, 50, 1000)])
+    for pat, which in [((True, False), 0), ((False, True), 1)]:
+        cov = C + np.diag(np.where(pat, 0.0, r))
+        tab = cs._region_table(tuple(a), tuple(map(tuple, cov)), pat, which)
+        mean = np.zeros((c.size, 2))
+        mean[:, which] = c
+        ref = cs._log_rect_prob(mean, cov, a, pat)
+        ok = ref > -700  # where the exact function still resolves the probability
+        np.testing.assert_allclose(tab(c)[ok], ref[ok], rtol=1e-11, atol=1e-10)
+    # both received: per-trial functions of c_0, with c_1 = c_0 + d_b
+    pat = (True, True)
+    d = rng.normal(0, 2, 6)
+    c0 = rng.normal(rng.normal(0, 3, 6)[:, None], 2.0, (6, 300))
+
+    def fn(b, x):
+        return cs._log_rect_prob(np.stack([x, x + d[b]], -1), C, a, pat)
+
+    got = cs._interp_rows(fn, c0)
+    ref = fn(np.arange(6)[:, None], c0)
+    np.testing.assert_allclose(got, ref, rtol=1e-11, atol=1e-10)
+
+
+def test_streams_are_pcg64_for_the_data_and_sfc64_for_the_filter():
+    rng = np.random.default_rng(np.random.SeedSequence(3).spawn(1)[0])
+    data, pf = cs._streams(rng)
+    assert isinstance(data.bit_generator, np.random.PCG64)
+    assert isinstance(pf.bit_generator, np.random.SFC64)
+    again = np.random.default_rng(np.random.SeedSequence(3).spawn(1)[0]).spawn(2)[0]
+    assert np.array_equal(data.random(5), again.random(5))  # the data stream is rng.spawn's
+
+
+def test_fast_log_inside_matches_the_careful_one():
+    """The ndtr form used by CFwMD2's silent factor, including its fallbacks (deep tail,
+    tiny h), against _inside."""
+    rng = np.random.default_rng(4)
+    m = np.concatenate([rng.normal(0, 3, 20000), rng.uniform(-60, 60, 2000)]).reshape(-1, 11)
+    for h in [rng.uniform(0.01, 4, (m.shape[0], 1)), 1.3, 1e-8]:
+        got = cs._log_inside_fast(m, h)
+        ref = cs._inside(m, np.broadcast_to(h, m.shape), log=True)
+        np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("module, cls", [("censoring_vector", "VectorScenario"),
+                                         ("censoring_nonlinear", "NonlinearScenario")])
+def test_run_dispatches_part_iv_b_scenarios(module, cls):
+    import importlib
+
+    mod = importlib.import_module(f"fusioncenter.{module}")
+    sc = getattr(mod, cls)()
+    kw = dict(l=2.0, n_trials=3, n_particles=50, seed=11, feedback="state")
+    a = cs.run(sc, "cfwmd", **kw)
+    b = mod.run(sc, "cfwmd", **kw)
+    assert np.array_equal(a.mc.samples, b.mc.samples)
+    with pytest.raises(ValueError, match="LinearScenario"):
+        cs.run(object(), "cfwmd", **kw)

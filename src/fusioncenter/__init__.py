@@ -10,6 +10,9 @@ chose, or managed, to send. One module per topic:
 - :mod:`fusioncenter.fading`      fading laws, the random Riccati recursion and its bounds (dey2009)
 - :mod:`fusioncenter.power`       steady state, 1/M laws and power allocation (leong2011)
 - :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014)
+- :mod:`fusioncenter.censoring_vector`     censoring of vector observations (zheng2014 Section V)
+- :mod:`fusioncenter.censoring_nonlinear`  the nonlinear sensor-grid tracker (zheng2014 Section VI)
+- :mod:`fusioncenter.synthesis`   the four papers' schemes on one problem, over faded links
 - :mod:`fusioncenter.particle`    a particle filter vectorized over trials and particles
 - :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
 - :mod:`fusioncenter.figures`     the registry of every figure and table of the papers

@@ -21,7 +21,11 @@ Entry points (signature, one line each):
   exact no-feedback filter instead.
 * ``LinearScenario(N=2, r=1.0, sigma2=4.0, T=20, x0=(0, 10), ...)``: the model of Section VII.A.
 * ``run(scenario, scheme, *, l, n_trials, n_particles, seed, feedback="state", ...)
-  -> CensoringResult``: the four schemes at the FC, through ``montecarlo.simulate``.
+  -> CensoringResult``: the four schemes at the FC, through ``montecarlo.simulate``. It runs
+  the fused filter :class:`_FusedFilter` (the exact no-feedback filter runs
+  :class:`_ExactFusionCentre` through :func:`fusioncenter.particle.run_filter`); the reference
+  :class:`_FusionCentre` (the same filter written as a ``particle.FilterModel``) draws the same
+  random numbers and is kept for the tests, which check that both agree.
 * ``paired_difference(a, b, component="position") -> (diff, stderr)``: time-averaged RMSE of
   ``a`` minus that of ``b`` on the same trials, with its paired standard error.
 
@@ -227,10 +231,14 @@ def _log_inside_fast(m, h):
     the careful :func:`_inside` is used instead. Agrees with :func:`_inside` to ~1e-13 relative.
     """
     m = np.abs(m)
-    p = special.ndtr(h - m) - special.ndtr(-h - m)
-    bad = (p < 1e-250) | (np.broadcast_to(h, p.shape) < 1e-6)
+    p = special.ndtr(h - m)
+    a = np.subtract(-h, m)
+    p -= special.ndtr(a, out=a)
+    bad = p < 1e-250
+    if np.any(np.asarray(h) < 1e-6):
+        bad |= np.broadcast_to(h, p.shape) < 1e-6
     with np.errstate(divide="ignore"):
-        out = np.log(p)
+        out = np.log(p, out=p)
     if bad.any():
         out[bad] = _inside(np.broadcast_to(m, p.shape)[bad], np.broadcast_to(h, p.shape)[bad],
                            log=True)
@@ -717,13 +725,7 @@ class _FusionCentre:
     # --- sensors
     def _local_decisions(self) -> None:
         """No feedback: every sensor runs its own KF; decisions do not depend on the FC."""
-        loc = self.local
-        F, H = self.sc.F, self.H
-        xhat = np.broadcast_to(F @ self.sc.dynamics.m0, (self.n, self.N, 2)).copy()
-        for t in range(self.z.shape[1]):
-            nu = self.z[:, t] - np.einsum("nik,ik->ni", xhat, H)
-            self.sent[:, t] = nu * nu >= self.eta * loc["s"][t]
-            xhat = (xhat + loc["gain"][t] * nu[..., None]) @ F.T
+        self.sent[:] = _local_decisions(self.sc, self.eta, self.z)
 
     def _feedback_decisions(self, t: int, x: np.ndarray) -> np.ndarray:
         """With feedback: innovations against the broadcast prediction; returns ``s`` ``(n, N)``."""
@@ -903,26 +905,520 @@ class _ExactFusionCentre:
         pass
 
 
+# ----------------------------------------------------------------------------- the fused filter
+#: The tables cover ``|x| < 48`` (beyond, the exact function is evaluated).
+_TABLE_EXTENT = 48.0
+#: Trials per sub-block of :class:`_FusedFilter`: about 32k particles, so that a sub-block's
+#: arrays stay in the core's cache while the ~40 array passes of a step run over them.
+_SUB_PARTICLES = 1 << 15
+
+
+class _LogTable:
+    """A smooth log-probability ``f(x)`` tabulated for fast evaluation at many particles.
+
+    ``f`` is evaluated exactly at the fixed nodes ``x_k = k * step``; on ``[x_j, x_{j+1})`` the
+    table holds the polynomial of degree ``degree`` (odd) through the ``degree + 1`` nodes
+    around the interval (Horner form in ``x / step - j``). The interpolation error is about
+    ``C step^(degree+1) max |f^(degree+1)|`` (``C = 0.014`` for cubics, ``0.005`` for quintics):
+    below ``1e-12`` in absolute value for the functions and steps used here (checked against
+    ``f`` itself in the tests), far below any Monte Carlo effect. The value at ``x`` depends only
+    on ``f`` at the nodes around it, never on which other points are evaluated, so a trial's
+    weights do not depend on the other trials. Outside ``|x| < 48`` and on intervals with a
+    non-finite node, ``f`` is evaluated exactly. ``even=True``: ``f(-x) = f(x)``, tabulated on
+    ``[0, 48)``.
+    """
+
+    def __init__(self, fn, *, even: bool, step: float, degree: int):
+        self.fn, self.even, self.step = fn, even, step
+        kmax = int(round(_TABLE_EXTENT / step))
+        self.k0 = 0 if even else -kmax
+        self.n_int = kmax - self.k0
+        lo = -(degree // 2)  # nodes j + lo .. j + lo + degree
+        vinv = _vinv(degree)
+        k = np.arange(self.k0 + lo, kmax + lo + degree + 1)
+        vals = np.asarray(fn(k * step), dtype=float)
+        win = np.lib.stride_tricks.sliding_window_view(vals, degree + 1)[: self.n_int]
+        coef = win @ vinv.T  # (n_int, degree + 1): increasing powers
+        finite = np.all(np.isfinite(win), axis=1)
+        coef[~finite] = np.nan  # evaluated exactly instead
+        self.all_finite = bool(finite.all())
+        self.coef = np.ascontiguousarray(coef[:, ::-1])  # Horner order
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        t = np.abs(x) if self.even else x - self.k0 * self.step
+        t *= 1.0 / self.step
+        return self._finish(t, lambda far: x[far])
+
+    def shifted(self, y: np.ndarray, shift: np.ndarray, scale: float,
+                work: np.ndarray) -> np.ndarray:
+        """``f((y - shift[:, None]) * scale)`` for an even table, using ``work`` (the shape of
+        ``y``) as scratch (saves three array passes over ``__call__``)."""
+        t = np.subtract(y, shift[:, None], out=work)
+        np.abs(t, out=t)
+        t *= scale / self.step
+
+        def exact_x(far):
+            return (y - shift[:, None])[far] * scale
+
+        return self._finish(t, exact_x)
+
+    def _finish(self, t: np.ndarray, exact_x) -> np.ndarray:
+        """Interpolate at ``t = (x - x_k0) / step`` (overwritten); ``exact_x(mask)`` gives the
+        arguments where the exact function is needed."""
+        j = t.astype(np.intp)
+        t -= j
+        c = np.take(self.coef, j, axis=0, mode="clip")  # (..., degree + 1)
+        out = np.multiply(c[..., 0], t)
+        out += c[..., 1]
+        for i in range(2, c.shape[-1]):
+            out *= t
+            out += c[..., i]
+        far = j >= self.n_int
+        if not self.even:
+            far |= j < 0
+            far |= t < 0  # x below the table (astype truncates towards zero)
+        if not self.all_finite:
+            far |= np.isnan(out)
+        if far.any():
+            out[far] = self.fn(exact_x(far))
+        return out
+
+
+def _interp_rows(fn, c: np.ndarray, *, step: float = 1.0 / 16, degree: int = 7) -> np.ndarray:
+    """``f_b(c[b, j])`` for every row ``b`` of ``c (rows, P)``, interpolated like
+    :class:`_LogTable` from exact values at the fixed nodes ``k * step`` that a row's particles
+    need (``fn(row_indices, x)`` evaluates ``f_b(x)`` elementwise). Degree 7 on a 1/16 grid:
+    error about ``0.002 step^8 max |f^(8)|`` (below 1e-11 here, checked in the tests). Used
+    when each row has its own function of one variable; a row's values depend only on its own
+    function and particles. Points whose nodes include a non-finite value are evaluated exactly.
+    """
+    rows_n = c.shape[0]
+    lo = -(degree // 2)
+    vinv = _vinv(degree)
+    kmin = np.floor(c.min(axis=1) / step).astype(np.intp)
+    kmax = np.floor(c.max(axis=1) / step).astype(np.intp)
+    n_node = kmax - kmin + 1 + degree  # nodes kmin + lo .. kmax + lo + degree
+    start = np.concatenate([[0], np.cumsum(n_node)[:-1]])
+    owner = np.repeat(np.arange(rows_n), n_node)
+    k = np.arange(int(n_node.sum())) - np.repeat(start - (kmin + lo), n_node)
+    vals = np.asarray(fn(owner, k * step), dtype=float)
+    win = np.lib.stride_tricks.sliding_window_view(vals, degree + 1)
+    coef = np.ascontiguousarray((win @ vinv.T)[:, ::-1])
+    t = c / step
+    kk = np.floor(t)
+    t -= kk
+    idx = start[:, None] + (kk.astype(np.intp) - kmin[:, None])
+    cf = np.take(coef, idx, axis=0)
+    out = np.multiply(cf[..., 0], t)
+    out += cf[..., 1]
+    for i in range(2, degree + 1):
+        out *= t
+        out += cf[..., i]
+    if not np.all(np.isfinite(vals)):
+        bad = ~np.all(np.isfinite(np.take(win, idx, axis=0)), axis=-1)
+        if bad.any():
+            rb = np.broadcast_to(np.arange(rows_n)[:, None], c.shape)[bad]
+            out[bad] = fn(rb, c[bad])
+    return out
+
+
+@functools.lru_cache(maxsize=8)
+def _vinv(degree: int) -> np.ndarray:
+    """Maps the values at the nodes ``lo .. lo + degree`` (``lo = -(degree // 2)``) to the
+    coefficients (increasing powers) of the interpolating polynomial."""
+    lo = -(degree // 2)
+    offsets = np.arange(lo, lo + degree + 1).astype(float)
+    return np.linalg.inv(np.vander(offsets, degree + 1, increasing=True))
+
+
+@functools.lru_cache(maxsize=256)
+def _silent_table(h: float) -> _LogTable:
+    """``m -> log P(|Z + m| < h)``: the silent factor of Propositions 1-2 in units of ``sd``."""
+    return _LogTable(lambda m: _inside(m, h, log=True), even=True, step=1.0 / 256, degree=3)
+
+
+@functools.lru_cache(maxsize=256)
+def _region_table(a: tuple, cov: tuple, outside: tuple, which: int) -> _LogTable:
+    """``c -> log P(region)`` of :func:`_log_rect_prob` with component ``which`` of the mean at
+    ``c`` and the others at 0 (Proposition 3 corrected, one sensor received)."""
+    a_arr, cov_arr = np.array(a), np.array(cov)
+
+    def fn(c):
+        mean = np.zeros((*np.shape(c), len(a)))
+        mean[..., which] = c
+        return _log_rect_prob(mean, cov_arr, a_arr, outside)
+
+    return _LogTable(fn, even=False, step=1.0 / 32, degree=5)
+
+
+def _local_decisions(sc: LinearScenario, eta: float, z: np.ndarray) -> np.ndarray:
+    """No feedback: every sensor runs its own KF; ``sent (n, T, N)`` from its innovations."""
+    loc = sc.local_filters()
+    F, H = sc.F, sc.H
+    n, T, N = z.shape
+    sent = np.empty((n, T, N), dtype=bool)
+    xhat = np.broadcast_to(F @ sc.dynamics.m0, (n, N, 2)).copy()
+    for t in range(T):
+        nu = z[:, t] - np.einsum("nik,ik->ni", xhat, H)
+        sent[:, t] = nu * nu >= eta * loc["s"][t]
+        xhat = (xhat + loc["gain"][t] * nu[..., None]) @ F.T
+    return sent
+
+
+def _sub_blocks(n: int, P: int) -> list[slice]:
+    """The sub-blocks of a block of ``n`` trials with ``P`` particles: about
+    :data:`_SUB_PARTICLES` particles each (whole trials). The filter's random numbers are drawn
+    sub-block by sub-block, so this partition is part of what fixes them (with the seed,
+    ``n_trials``, ``block_size`` and ``n_particles``)."""
+    sub = max(1, _SUB_PARTICLES // P)
+    return [slice(s0, min(n, s0 + sub)) for s0 in range(0, n, sub)]
+
+
+class _FusedFilter:
+    """The FC's particle filter for every scheme except the exact no-feedback one, fused.
+
+    The same filter as :class:`_FusionCentre` run by :func:`fusioncenter.particle.run_filter`
+    on each sub-block of trials in turn (it draws the same random numbers in the same order, and
+    the tests check that the two agree to rounding), organized for speed:
+
+    * the trials of a block are processed in sub-blocks of about 32k particles (whole trials,
+      :func:`_sub_blocks`), each through all its steps, so that the ~40 array passes of a step
+      work on data in the core's cache; the filter's random numbers are drawn sub-block by
+      sub-block (the sub-blocks are fixed by ``n_particles``, so results still do not depend on
+      chunking or executors); every operation is row-wise, so apart from the draws a trial's
+      result does not depend on the other trials;
+    * the particles are two ``(trials, P)`` arrays (position, velocity), not one
+      ``(trials, P, 2)``;
+    * the silent factor with state feedback is the interpolation table :func:`_silent_table`
+      (its ``h`` is the same for every trial at a step), as is the corrected Proposition 3 with
+      one sensor received (:func:`_region_table`) and, per trial, with both received
+      (:func:`_interp_rows`); CFwMD2's factor (``h`` differs per trial) uses two ``ndtr`` per
+      particle;
+    * additive constants of a trial's log weights are dropped, the weights are normalized once
+      (``exp`` of the log weights minus their maximum), the covariance is computed only when
+      CFwMD2 feeds it back, and systematic resampling is one ``cumsum``, ``ceil``, ``repeat``
+      and one gather per coordinate.
+    """
+
+    def __init__(self, sc: LinearScenario, scheme: str, feedback: str, likelihood: str,
+                 eta: float, l: float, z: np.ndarray, sel_u: np.ndarray):
+        self.sc, self.scheme, self.feedback, self.likelihood = sc, scheme, feedback, likelihood
+        self.eta = eta
+        self.z = z
+        n, T, N = z.shape
+        self.n, self.T, self.N = n, T, N
+        self.H, self.r = sc.H, sc.rvec
+        self.groups = sc.sensor_groups()
+        self.local = sc.local_filters()
+        dyn = sc.dynamics
+        self.dt = float(dyn.F[0, 1])
+        self.LQ = dyn._LQ
+        self.censor = scheme in ("cfomd", "cfwmd")
+        self.fb = self.censor and feedback != "none"
+        self.analytic = sc.feedback_moments == "analytic"
+        self.need_cov = self.fb and feedback == "state+cov" and self.analytic
+        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
+        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        if self.censor and feedback == "none":
+            self.sent = _local_decisions(sc, eta, z)
+        elif scheme == "random":
+            self.sent = sel_u < l / N
+        elif scheme == "all-send":
+            self.sent = np.ones((n, T, N), dtype=bool)
+        else:
+            self.sent = np.zeros((n, T, N), dtype=bool)
+        self.nf_region = scheme == "cfwmd" and feedback == "none"
+
+    # --- the sensors' decisions at step k = t - 1 (feedback) for rows R
+    def _decide(self, R: slice, k: int, pos, vel) -> np.ndarray | None:
+        if not self.analytic:  # moments of the propagated cloud
+            P = pos.shape[1]
+            mp, mv = pos.mean(axis=1), vel.mean(axis=1)
+            self.pred_mean[R, 0], self.pred_mean[R, 1] = mp, mv
+            if self.feedback == "state+cov":
+                dp, dv = pos - mp[:, None], vel - mv[:, None]
+                cpp, cpv, cvv = ((dp * dp).sum(1) / P, (dp * dv).sum(1) / P,
+                                 (dv * dv).sum(1) / P)
+                self.pred_cov[R] = np.stack([np.stack([cpp, cpv], -1),
+                                             np.stack([cpv, cvv], -1)], -2)
+        if self.feedback == "state+cov":
+            s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov[R], self.H) + self.r
+        else:
+            s = self.local["s"][k]
+        nu = self.z[R, k] - self.pred_mean[R] @ self.H.T
+        self.sent[R, k] = nu * nu >= self.eta * s
+        return s
+
+    # --- log weights of rows R at step k (additive per-row constants dropped)
+    def _log_weight(self, R: slice, k: int, pos, vel, lw, tmp) -> None:
+        s = self._decide(R, k, pos, vel) if self.fb else None
+        sent, z = self.sent[R, k], self.z[R, k]
+        ys = {}
+        started = False  # lw holds a value (the first term is written, not added)
+        for g in self.groups:
+            hg, rg = self.H[g[0]], float(self.r[g[0]])
+            if hg[0] == 1.0 and hg[1] == 0.0:
+                y = pos
+            else:
+                y = hg[0] * pos + hg[1] * vel
+            ys[int(g[0])] = y
+            sg = sent[:, g]
+            n_obs = sg.sum(axis=1)
+            if n_obs.any():
+                # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
+                # a constant per trial (centred: no cancellation however large the positions)
+                zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
+                dst = tmp if started else lw
+                np.subtract(y, zbar[:, None], out=dst)
+                np.square(dst, out=dst)
+                dst *= (-0.5 / rg * n_obs)[:, None]
+                if started:
+                    lw += tmp
+                started = True
+            if self.scheme != "cfwmd" or not self.fb:
+                continue
+            n_sil = len(g) - n_obs
+            rows = np.flatnonzero(n_sil)
+            if rows.size == 0:
+                continue
+            sd = math.sqrt(rg)
+            hp = self.pred_mean[R] @ hg
+            # most trials have a silent sensor: evaluate every row (no fancy indexing) and
+            # zero the others, unless few rows need it
+            every = 2 * rows.size >= n_sil.size
+            if self.feedback == "state+cov":  # h differs per trial
+                mu = np.subtract(y, hp[:, None], out=tmp) if every else y[rows] - hp[rows, None]
+                mu *= 1.0 / sd
+                hh = np.sqrt(self.eta * s[rows if not every else slice(None), g[0]]) / sd
+                with np.errstate(invalid="ignore"):
+                    val = _log_inside_fast(mu, hh[:, None])
+            else:
+                table = _silent_table(math.sqrt(self.eta * s[g[0]]) / sd)
+                if every:
+                    val = table.shifted(y, hp, 1.0 / sd, tmp)
+                else:  # the same arithmetic on the rows that need it
+                    val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
+            ns = n_sil if every else n_sil[rows]
+            if every and not ns.all():
+                val[ns == 0] = 0.0
+            if np.any(ns > 1):
+                val *= ns[:, None]
+            if not started:
+                lw.fill(0.0)
+                started = True
+            if every:
+                lw += val
+            else:
+                lw[rows] += val
+        if not started:
+            lw.fill(0.0)
+        if self.nf_region:
+            self._no_feedback_region(k, sent, z, ys, lw)
+
+    def _no_feedback_region(self, k, sent, z, ys, lw) -> None:
+        """Proposition 3 (printed or corrected) for rows of a sub-block, pattern by pattern."""
+        C, r, eta, N = self.local["C"][k], self.r, self.eta, self.N
+        gid = {int(i): int(g[0]) for g in self.groups for i in g}
+        if self.likelihood == "printed":  # a constant per trial: cheap through the generic code
+            lw += _no_feedback_region(sent, z, np.zeros((sent.shape[0], 1, N)), C, r, eta,
+                                      "printed")
+            return
+        s_ = np.diag(C) + r
+        a = np.sqrt(eta * s_)
+        for pat in np.unique(sent, axis=0):
+            rows = np.flatnonzero(np.all(sent == pat, axis=-1))
+            cov = C + np.diag(np.where(pat, 0.0, r))
+            recv = np.flatnonzero(pat)
+            if recv.size == 0:
+                lw[rows] += _log_silent_constant(cov, a)
+            elif N == 2 and abs(cov[0, 1]) >= (1 - 1e-9) * math.sqrt(cov[0, 0] * cov[1, 1]):
+                # degenerate law (k = 1 with x_0 known: identical local predictions): the
+                # region probability has kinks, which the tables would smooth; exact
+                hx = np.stack([ys[gid[i]][rows] for i in range(N)], axis=-1)
+                mean = np.where(pat, z[rows][:, None, :] - hx, 0.0)
+                lw[rows] += _log_rect_prob(mean, cov, a, pat)
+            elif recv.size == 1:
+                i = int(recv[0])
+                tab = _region_table(tuple(a.tolist()), tuple(map(tuple, cov.tolist())),
+                                    tuple(bool(p) for p in pat), i)
+                c = z[rows, i][:, None] - ys[gid[i]][rows]
+                lw[rows] += tab(c)
+            elif len(self.groups) == 1 or np.all(self.H == self.H[0]):
+                # both received, one projection y = h^T x: per trial a function of
+                # c_0 = z_0 - y (c_1 = c_0 + z_1 - z_0), interpolated from exact values
+                d = z[rows, 1] - z[rows, 0]
+
+                def fn(b, c0, d=d, cov=cov, pat=pat):
+                    return _log_rect_prob(np.stack([c0, c0 + d[b]], axis=-1), cov, a, pat)
+
+                lw[rows] += _interp_rows(fn, z[rows, 0][:, None] - ys[gid[0]][rows])
+            else:
+                hx = np.stack([ys[gid[i]][rows] for i in range(N)], axis=-1)
+                mean = np.where(pat, z[rows][:, None, :] - hx, 0.0)
+                lw[rows] += _log_rect_prob(mean, cov, a, pat)
+
+    # --- the loop
+    def run(self, rng: np.random.Generator, P: int, ess_threshold: float,
+            x_true: np.ndarray) -> np.ndarray:
+        n, T = self.n, self.T
+        dyn = self.sc.dynamics
+        out = np.zeros((n, T, 5))
+        out[..., 2] = self.sent.sum(axis=-1)  # fixed in advance without feedback
+        every_step = ess_threshold >= 1.0
+        lw_prev = None if every_step else np.zeros((n, P))
+        kq = self.LQ.shape[1]
+        blocks = _sub_blocks(n, P)
+        mmax = max(R.stop - R.start for R in blocks)
+        work = [np.empty((mmax, P)) for _ in range(5)]
+        gbuf = np.empty((mmax, P, kq))
+        ar = {}
+        for R in blocks:
+            m = R.stop - R.start
+            lw, tmp, cb, p2, v2 = (w[:m] for w in work)
+            # the random numbers of particle.run_filter on this sub-block, in its order: the
+            # initial particles, then per step the particles' noise (as LinearGaussianDynamics
+            # draws it) and one uniform per trial
+            x0 = dyn.initial(rng, m, P)
+            p, v = np.ascontiguousarray(x0[..., 0]), np.ascontiguousarray(x0[..., 1])
+            for t in range(1, T + 1):
+                k = t - 1
+                g = rng.standard_normal(out=gbuf[:m]) if kq else None
+                u = rng.random(m)
+                # A1.3: propagate (F = [[1, dt], [0, 1]], noise L g with L L^T = Q)
+                if self.dt == 1.0:
+                    p += v
+                else:
+                    np.multiply(v, self.dt, out=tmp)
+                    p += tmp
+                for j in range(kq):
+                    gj = g[:, :, j]
+                    np.multiply(gj, self.LQ[0, j], out=tmp)
+                    p += tmp
+                    np.multiply(gj, self.LQ[1, j], out=tmp)
+                    v += tmp
+                # A1.4: weights
+                self._log_weight(R, k, p, v, lw, tmp)
+                if lw_prev is not None:
+                    lw += lw_prev[R]
+                mx = lw.max(axis=1)
+                if np.isnan(mx).any():
+                    raise ValueError("log weights must not be NaN")
+                dead = mx == -np.inf  # no particle compatible with the data: ignore them
+                if dead.any():
+                    lw[dead] = 0.0
+                    mx[dead] = 0.0
+                lw -= mx[:, None]
+                w = np.exp(lw, out=lw)
+                S = w.sum(axis=1)
+                # A1.5: estimate
+                np.multiply(w, p, out=tmp)
+                mp = tmp.sum(axis=1) / S
+                np.multiply(w, v, out=tmp)
+                mv = tmp.sum(axis=1) / S
+                np.square(w, out=tmp)
+                ess = S * S / tmp.sum(axis=1)
+                out[R, k, 0] = (mp - x_true[R, t, 0]) ** 2
+                out[R, k, 1] = (mv - x_true[R, t, 1]) ** 2
+                out[R, k, 3] = ess / P
+                out[R, k, 4] = dead
+                if self.fb:
+                    out[R, k, 2] = self.sent[R, k].sum(axis=-1)
+                if self.analytic:  # what is fed back at t + 1
+                    self.pred_mean[R, 0] = mp + self.dt * mv
+                    self.pred_mean[R, 1] = mv
+                    if self.need_cov:
+                        self.pred_cov[R] = self._predicted_cov(w, S, p, v, mp, mv, tmp, cb)
+                # A1.6: systematic resampling (one uniform per trial)
+                todo = None if every_step else ess <= ess_threshold * P
+                if lw_prev is not None:
+                    with np.errstate(divide="ignore"):
+                        keep = np.log(w / S[:, None])
+                    lw_prev[R] = np.where(todo[:, None], 0.0, keep)
+                self._resample(w, S, u, p, v, p2, v2, cb, ar, todo)
+                p, p2 = p2, p
+                v, v2 = v2, v
+        return out
+
+    def _predicted_cov(self, w, S, p, v, mp, mv, tmp, cb) -> np.ndarray:
+        """``F Cov F^T + Q`` from the weighted particle covariance (CFwMD2, analytic)."""
+        np.subtract(p, mp[:, None], out=tmp)
+        np.subtract(v, mv[:, None], out=cb)
+        dv_w = cb * w
+        cvv = (dv_w * cb).sum(axis=1) / S
+        cpv = (dv_w * tmp).sum(axis=1) / S
+        tmp *= tmp
+        tmp *= w
+        cpp = tmp.sum(axis=1) / S
+        cov = np.stack([np.stack([cpp, cpv], -1), np.stack([cpv, cvv], -1)], -2)
+        F, Q = self.sc.F, self.sc.Q
+        pc = F @ cov @ F.T + Q
+        return 0.5 * (pc + np.swapaxes(pc, -1, -2))
+
+    @staticmethod
+    def _resample(w, S, u, p, v, new_p, new_v, cb, ar, todo) -> None:
+        m, P = w.shape
+        c = np.cumsum(w, axis=1, out=cb)
+        c /= c[:, -1:]
+        c *= P
+        c -= u[:, None]
+        np.ceil(c, out=c)
+        c[:, -1] = P
+        cnt = np.empty((m, P), dtype=np.intp)
+        cnt[:, 0] = c[:, 0]
+        np.subtract(c[:, 1:], c[:, :-1], out=cnt[:, 1:], casting="unsafe")
+        if todo is not None:
+            cnt[~todo] = 1  # identity for the trials that are not resampled
+        if m not in ar:
+            ar[m] = np.arange(m * P)
+        idx = np.repeat(ar[m], cnt.ravel())
+        np.take(p.ravel(), idx, out=new_p.reshape(-1))
+        np.take(v.ravel(), idx, out=new_v.reshape(-1))
+
+
+def _streams(rng: np.random.Generator) -> tuple[np.random.Generator, np.random.Generator]:
+    """The two streams of a block: ``(data, particle filter)`` (see :func:`_chunk`)."""
+    rng_data, rng_pf = rng.spawn(2)
+    return rng_data, np.random.Generator(np.random.SFC64(rng_pf.bit_generator.seed_seq))
+
+
 def _chunk(rng: np.random.Generator, n: int, *, scenario: LinearScenario, scheme: str,
            feedback: str, likelihood: str, eta: float, l: float, n_particles: int,
-           ess_threshold: float) -> np.ndarray:
+           ess_threshold: float, engine: str = "fused") -> np.ndarray:
     """``chunk_fn`` for :func:`fusioncenter.montecarlo.simulate`: ``(n, T, d + 3)`` per trial.
 
     Columns ``[squared error per state component (d) | number of sensors that sent |
     ESS / n_particles | 1 if the weights collapsed]``. Two independent streams are spawned from
     ``rng``: the first draws the truth, the measurements and the random-selection uniforms (in
     that order, for every scheme: trials are paired across schemes), the second the filter's
-    particles and resampling uniforms.
+    particles and resampling uniforms; the latter is an SFC64 generator seeded by the spawned
+    seed sequence (its normal draws are 10-20 % cheaper than PCG64's here, and they are the
+    largest single cost of the filter). ``engine="fused"`` (what :func:`run` uses) runs
+    :class:`_FusedFilter` for every scheme but the exact no-feedback filter;
+    ``engine="reference"`` runs :class:`_FusionCentre` through
+    :func:`fusioncenter.particle.run_filter` (the same random numbers; the tests compare them).
     """
-    rng_data, rng_pf = rng.spawn(2)
+    rng_data, rng_pf = _streams(rng)
     x, z = scenario.sample(rng_data, n)
     sel_u = rng_data.random(z.shape)
-    fc = _FusionCentre(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
-    model = fc
-    if scheme == "cfwmd" and feedback == "none" and likelihood == "exact":
+    exact = scheme == "cfwmd" and feedback == "none" and likelihood == "exact"
+    if engine == "fused" and not exact:
+        filt = _FusedFilter(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
+        return filt.run(rng_pf, n_particles, ess_threshold, x)
+    if exact:  # the whole block at once
+        fc = _FusionCentre(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
         model = _ExactFusionCentre(scenario, eta, z, fc.sent)
-    out = particle.run_filter(model, rng_pf, n, n_particles, scenario.T,
-                              ess_threshold=ess_threshold)
+        return _reference_output(model, fc, rng_pf, n, n_particles, ess_threshold, x)
+    # the reference engine, sub-block by sub-block (the fused filter's order of draws)
+    parts = []
+    for R in _sub_blocks(n, n_particles):
+        fc = _FusionCentre(scenario, scheme, feedback, likelihood, eta, l, z[R], sel_u[R])
+        parts.append(_reference_output(fc, fc, rng_pf, R.stop - R.start, n_particles,
+                                       ess_threshold, x[R]))
+    return np.concatenate(parts, axis=0)
+
+
+def _reference_output(model, fc, rng, n, n_particles, ess_threshold, x) -> np.ndarray:
+    out = particle.run_filter(model, rng, n, n_particles, fc.sc.T, ess_threshold=ess_threshold)
     sq = (out.mean[..., :2] - x[:, 1:]) ** 2
     collapsed = out.collapsed | getattr(model, "relaxed", False)
     return np.concatenate([sq, fc.sent.sum(axis=-1, keepdims=True).astype(float),
@@ -1056,19 +1552,41 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     ``eta = threshold(l, N)`` for the censoring schemes and ``p = l / N`` for random selection;
     ignored by all-send). ``likelihood`` selects how ``scheme="cfwmd"`` fuses with
     ``feedback="none"``: Proposition 3 ``"corrected"`` (``N <= 2``) or ``"printed"``, or the
-    ``"exact"`` filter (particles of dimension ``2 (N + 1)``; about 6x the cost per particle). The
+    ``"exact"`` filter (particles of dimension ``2 (N + 1)``; about 10x the cost per particle). The
     filter resamples when ``ESS <= ess_threshold * n_particles`` (default: every step, as
     Algorithm 1).
 
     Runs through :func:`fusioncenter.montecarlo.simulate`: results are bitwise identical for any
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
-    ``n_trials`` and ``block_size``. Peak memory of a task (tracemalloc): about 120 bytes per
-    particle of a block (30 MiB for the default 256 trials x 1000 particles), 330 bytes for the
-    exact no-feedback filter (80 MiB), plus the per-trial results (``n_trials * T * 5 * 8``
-    bytes).
+    ``n_trials`` and ``block_size``. Every scheme except the exact no-feedback filter runs the
+    fused filter (:class:`_FusedFilter`): on the project's 2-core machine about 85 ns per
+    particle and step for CFwMD with state feedback (the reference engine: about 195;
+    ``benchmarks/bench_censoring.py``), of which about 17 are the normal draws, 14 the silent
+    factor and 28 the resampling; less for the schemes without a silent factor, more for CFwMD2
+    (two ``ndtr`` per particle) and for the corrected Proposition 3 (bivariate normal
+    probabilities). Peak memory of a task
+    (tracemalloc): a few MiB for the fused filter (it works on sub-blocks of about 32k
+    particles: 5 MiB for the default 256 trials x 1000 particles), 340 bytes per particle of a
+    block for the exact no-feedback filter (83 MiB), plus the per-trial results
+    (``n_trials * T * 5 * 8`` bytes).
+
+    A :class:`fusioncenter.censoring_vector.VectorScenario` or a
+    :class:`fusioncenter.censoring_nonlinear.NonlinearScenario` is handed to that module's
+    ``run`` with the same arguments (Part IV(b)).
     """
+    # local imports: those modules import this one
+    from fusioncenter import censoring_nonlinear, censoring_vector
+
+    for mod, cls in ((censoring_vector, "VectorScenario"),
+                     (censoring_nonlinear, "NonlinearScenario")):
+        if isinstance(scenario, getattr(mod, cls)):
+            return mod.run(scenario, scheme, l=l, n_trials=n_trials, n_particles=n_particles,
+                           seed=seed, feedback=feedback, likelihood=likelihood,
+                           ess_threshold=ess_threshold, chunk_size=chunk_size,
+                           executor=executor, progress=progress, block_size=block_size)
     if not isinstance(scenario, LinearScenario):
-        raise ValueError("scenario must be a LinearScenario")
+        raise ValueError("scenario must be a LinearScenario, VectorScenario or "
+                         "NonlinearScenario")
     if scheme not in SCHEMES:
         raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
     if feedback not in FEEDBACK:

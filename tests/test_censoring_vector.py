@@ -1,0 +1,396 @@
+"""fusioncenter.censoring_vector: the generalized chi-square probability, Propositions 4-6, the
+scenario of Section VII.B and the particle filter (zheng2014, vector observations)."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+import scipy.stats
+from filterpy.kalman import KalmanFilter
+
+from fusioncenter import censoring as cs
+from fusioncenter import censoring_vector as cv
+
+
+def _z(diff, se):
+    return abs(diff) / se
+
+
+# ----------------------------------------------------------------------------- threshold
+@pytest.mark.parametrize("l,N", [(1, 2), (1, 4), (2, 4), (3, 4), (0.5, 2)])
+def test_threshold_is_the_chi2_m_quantile(l, N):
+    # chi2 with 2 degrees of freedom: P(chi2_2 >= eta) = exp(-eta / 2)
+    assert cs.threshold(l, N, dof=2) == pytest.approx(-2.0 * math.log(l / N), rel=1e-12)
+    for m in (1, 2, 3):
+        eta = cs.threshold(l, N, dof=m)
+        assert scipy.stats.chi2.sf(eta, m) == pytest.approx(l / N, rel=1e-10)
+
+
+# ----------------------------------------------------------------------------- the probability
+def _mp_isotropic(a, r):
+    """log P(|u| < a), u ~ N((r, 0), I): mpmath, split quadrature (exact to ~1e-15)."""
+    mp.mp.dps = 40
+    f = lambda rho: rho * mp.e ** (-(rho - r) ** 2 / 2 - rho * r) * mp.besseli(0, rho * r)  # noqa: E731
+    return float(mp.log(mp.quad(f, mp.linspace(0, a, 200))))
+
+
+def _mp_theta(b1, b2, a1, a2):
+    """The theta integral of the module docstring in mpmath (an independent evaluation)."""
+    mp.mp.dps = 20
+    b2 = abs(b2)
+    f = lambda th: (a1 * mp.cos(th) * mp.npdf(a1 * mp.sin(th) - b1)  # noqa: E731
+                    * (mp.ncdf(a2 * mp.cos(th) - b2) - mp.ncdf(-a2 * mp.cos(th) - b2)))
+    return float(mp.log(mp.quad(f, mp.linspace(-mp.pi / 2, mp.pi / 2, 40))))
+
+
+@pytest.mark.parametrize("sigma2", [0.3, 1.0, 2.5])
+def test_isotropic_case_is_scipy_ncx2(sigma2):
+    """cov = sigma2 I: q^T q / sigma2 is non-central chi-square (2 dof, nc = |mean|^2/sigma2),
+    both tails: the lower (log cdf down to -60) and the upper (log P near 0, via ncx2.sf)."""
+    rng = np.random.default_rng(0)
+    for eta in (0.2, 1.386, 5.0, 20.0):
+        for r in (0.0, 0.5, 1.0, 2.0, 4.0, 6.0, 9.0):
+            ang = rng.uniform(0, 2 * np.pi)
+            mean = r * np.array([np.cos(ang), np.sin(ang)])
+            got = cv.log_censored_probability(mean, sigma2 * np.eye(2), eta)
+            nc = r * r / sigma2
+            x = eta / sigma2
+            lcdf = scipy.stats.ncx2.logcdf(x, 2, nc) if nc else scipy.stats.chi2.logcdf(x, 2)
+            if lcdf < -60:
+                continue
+            assert got == pytest.approx(lcdf, rel=1e-9, abs=1e-12)
+            sf = scipy.stats.ncx2.sf(x, 2, nc) if nc else scipy.stats.chi2.sf(x, 2)
+            if sf < 1e-3:  # upper tail: log P = log1p(-sf), relative accuracy of the small sf
+                assert -got == pytest.approx(-math.log1p(-sf), rel=1e-8)
+
+
+@pytest.mark.parametrize("a,r", [(2.0, 20.0), (0.3, 30.0), (1.0, 38.0), (8.0, 38.0)])
+def test_far_tail_no_underflow_against_mpmath(a, r):
+    """Where scipy's ncx2.logcdf loses accuracy or returns -inf (log P ~ -170 .. -720)."""
+    got = cv.log_censored_probability([0.0, r], np.eye(2), a * a)
+    assert np.isfinite(got)
+    assert got == pytest.approx(_mp_isotropic(a, r), rel=1e-12)
+
+
+def test_anisotropic_against_mpmath():
+    rng = np.random.default_rng(1)
+    for _ in range(3):
+        a1, a2 = np.sort(np.exp(rng.uniform(np.log(0.3), np.log(6.0), 2)))
+        r = rng.choice([0.5, 3.0, 8.0, 20.0])
+        ang = rng.uniform(0, 2 * np.pi)
+        b1, b2 = r * np.cos(ang), r * np.sin(ang)
+        got = cv._log_canon(b1, b2, a1, a2)
+        assert got == pytest.approx(_mp_theta(abs(b1), b2, a1, a2), rel=1e-11)
+
+
+def test_against_monte_carlo_general_covariance():
+    rng = np.random.default_rng(2)
+    n = 400_000
+    for _ in range(4):
+        Aq = rng.normal(size=(2, 2))
+        cov = Aq @ Aq.T + 0.2 * np.eye(2)
+        mean = rng.normal(size=2) * 1.5
+        eta = rng.uniform(0.5, 4.0)
+        p = cv.censored_probability(mean, cov, eta)
+        q = mean + rng.standard_normal((n, 2)) @ np.linalg.cholesky(cov).T
+        freq = np.mean((q * q).sum(axis=1) < eta)
+        assert _z(freq - p, math.sqrt(p * (1 - p) / n)) < 4
+
+
+def test_rotation_invariance_and_one_dimension():
+    rng = np.random.default_rng(3)
+    mean, eta = np.array([0.7, -1.3]), 2.0
+    cov = np.array([[1.5, 0.4], [0.4, 0.6]])
+    th = 0.83
+    Rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+    a = cv.log_censored_probability(mean, cov, eta)
+    b = cv.log_censored_probability(Rot @ mean, Rot @ cov @ Rot.T, eta)
+    assert a == pytest.approx(b, rel=1e-13)
+    # m = 1: the scalar factor Q(xi_1) - Q(xi_2) of Proposition 1
+    mu, s, r = rng.normal(size=5) * 2, 1.7, 0.8
+    got = cv.log_silent_probability(mu[:, None], [[s]], [[r]], eta)
+    assert np.allclose(got, cs.log_censored_probability(mu, s, r, eta), rtol=1e-13)
+
+
+def test_proposition4_q_is_the_whitened_innovation():
+    """(35)-(38): P(nu^T S^-1 nu < eta), nu ~ N(mu, R), equals P(q^T q < eta) for
+    q ~ N(S^-1/2 mu, S^-1/2 R S^-1/2), with the symmetric square root of the paper."""
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        Ar, Ap = rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
+        R = Ar @ Ar.T + 0.3 * np.eye(2)
+        S = R + Ap @ Ap.T
+        mu = rng.normal(size=2) * 2
+        w, V = np.linalg.eigh(S)
+        Sm = V @ np.diag(w ** -0.5) @ V.T
+        lhs = cv.log_silent_probability(mu, S, R, 1.386)
+        rhs = cv.log_censored_probability(Sm @ mu, Sm @ R @ Sm, 1.386)
+        assert lhs == pytest.approx(rhs, rel=1e-12)
+
+
+def test_sampled_estimate_is_unbiased_with_the_binomial_error():
+    rng = np.random.default_rng(5)
+    mean, cov, eta = np.array([1.0, -0.5]), np.array([[0.8, 0.3], [0.3, 0.5]]), 1.386
+    p = cv.censored_probability(mean, cov, eta)
+    est = cv.censored_probability_sampled(np.broadcast_to(mean, (2000, 2)), cov, eta,
+                                          n_samples=50, rng=rng)
+    assert est.std() == pytest.approx(math.sqrt(p * (1 - p) / 50), rel=0.1)
+    assert _z(est.mean() - p, est.std() / math.sqrt(est.size)) < 4
+
+
+def test_tables_are_accurate():
+    """The filter's interpolation: below 1e-6 (fixed ellipse) and 2e-5 (per trial) in log P."""
+    rng = np.random.default_rng(6)
+    for a1, a2 in [(1.18, 1.6), (1.2, 3.9), (2.5, 2.6), (3.5, 6.0)]:
+        b = rng.uniform(-13, 13, (5000, 2))
+        val = cv._log_silent_fixed((b[:, 0], b[:, 1]), np.array([a1, a2]))
+        ref = cv._log_canon(b[:, 0], b[:, 1], a1, a2)
+        assert np.max(np.abs(val - ref)) < 1e-6
+    n, P = 24, 400
+    for eta in (0.575, 2.77):
+        mu = rng.uniform(0.3, 3, (n, 2))
+        a = np.sort(np.sqrt(eta * (1 + mu)), axis=1)
+        b = rng.normal(size=(n, P, 2)) * np.sqrt(mu)[:, None, :] + rng.normal(size=(n, 1, 2))
+        val = cv._eval_silent(b, a)
+        aa = np.broadcast_to(a[:, None, :], b.shape)
+        ref = cv._log_canon(b[..., 0], b[..., 1], aa[..., 0], aa[..., 1])
+        assert np.max(np.abs(val - ref)) < 2e-5
+
+
+def test_truncated_draws_have_the_conditional_mean():
+    """Imputation of a missing measurement: u ~ N(b, I) given the ellipse; its mean is
+    b + grad log P(b) (differentiate P = int_E phi(u - b) du under the integral)."""
+    rng = np.random.default_rng(7)
+    a = np.array([1.2, 2.1])
+    for b in ([0.3, -0.4], [1.5, 1.0], [3.0, 0.5]):
+        b = np.array(b)
+        u, left = cv._sample_in_ellipse(rng, np.broadcast_to(b, (100_000, 2)), a)
+        assert left == 0 and np.all(((u / a) ** 2).sum(axis=1) < 1)
+        f, f1, f2, _ = cv._grid_terms(np.array([b[0]]), np.array([b[1]]), a[0], a[1], 64)
+        mean = b + np.array([f1[0, 0], f2[0, 0]])
+        se = u.std(axis=0) / math.sqrt(u.shape[0])
+        assert np.all(np.abs(u.mean(axis=0) - mean) < 4 * se)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"mean": [1.0, 2.0], "cov": [[1.0, 2.0], [2.0, 1.0]], "eta": 1.0}, "cov"),
+    ({"mean": [1.0, 2.0, 3.0], "cov": np.eye(3), "eta": 1.0}, "mean"),
+    ({"mean": [1.0, 2.0], "cov": np.eye(2), "eta": -1.0}, "eta"),
+    ({"mean": [np.nan, 2.0], "cov": np.eye(2), "eta": 1.0}, "mean"),
+])
+def test_probability_validation(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        cv.log_censored_probability(**kwargs)
+
+
+# ----------------------------------------------------------------------------- likelihoods
+def test_feedback_likelihood_is_the_sum_of_its_factors():
+    rng = np.random.default_rng(8)
+    sent = np.array([True, False])
+    z = rng.normal(size=(2, 2))
+    Hx, Hp = rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
+    R = np.array([[2.0, 0.0], [0.0, 4.0]])
+    S = R + np.array([[1.0, 0.3], [0.3, 2.0]])
+    got = cv.log_likelihood_feedback(sent, z, Hx, Hp, np.stack([S, S]), np.stack([R, R]), 1.386)
+    want = (scipy.stats.multivariate_normal(Hx[0], R).logpdf(z[0])
+            + cv.log_silent_probability(Hx[1] - Hp[1], S, R, 1.386))
+    assert got == pytest.approx(want, rel=1e-12)
+
+
+def test_printed_proposition6_does_not_sum_to_one():
+    """N = 2, l = 1: sum over outcomes = 1 + P_1 + P_2 + P_12 (P_j = 1 - l/N = 1/2), about 2.25
+    as for independent innovations, never 1; the joint term checked by simulating the two
+    sensors' own Kalman filters (the law (21)-(23))."""
+    sc = cv.VectorScenario()
+    t = 6
+    mass = cv.printed_mass(sc, 1, t)
+    assert 2.2 < mass < 2.35
+    lf = sc.local_filters()
+    cov = cv.silent_covariance(sc, lf["Sigma"][t - 1])
+    p12 = math.exp(cv.log_all_silent(cov, lf["S"][t - 1], cs.threshold(1, 2, dof=2)))
+    assert mass == pytest.approx(1 + 0.5 + 0.5 + p12, rel=1e-9)
+    # Monte Carlo of the sensors' innovations at step t (no feedback: local filters only)
+    rng = np.random.default_rng(9)
+    n = 100_000
+    x, z = sc.sample(rng, n)
+    eta = cs.threshold(1, 2, dof=2)
+    sent = cv.local_decisions(sc, eta, z)
+    both = np.mean(~sent[:, t - 1, 0] & ~sent[:, t - 1, 1])
+    assert _z(both - p12, math.sqrt(p12 * (1 - p12) / n)) < 4
+    one = np.mean(~sent[:, t - 1, 0])
+    assert _z(one - 0.5, math.sqrt(0.25 / n)) < 4
+
+
+def test_printed_constant_single_sensor_is_exact():
+    sc = cv.VectorScenario()
+    lf = sc.local_filters()
+    cov = cv.silent_covariance(sc, lf["Sigma"][3])
+    eta = cs.threshold(1, 2, dof=2)
+    assert math.exp(cv.log_all_silent(cov[:2, :2], lf["S"][3][:1], eta)) == \
+        pytest.approx(0.5, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- scenario
+def test_scenario_defaults_are_the_papers():
+    sc = cv.VectorScenario()
+    assert (sc.N, sc.T, sc.x0, sc.sigma2, sc.dt, sc.m) == (2, 20, (0.0, 10.0), 4.0, 1.0, 2)
+    assert np.array_equal(sc.Rs[0], np.diag([2.0, 4.0])) and np.array_equal(sc.Hs[1], np.eye(2))
+    assert "sensors" in sc.choices and "silent probability" in sc.choices
+    assert cv.VectorScenario(N=4, R=(2.0, 4.0)) == cv.VectorScenario(N=4)
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"N": 0}, "N"), ({"T": 0}, "T"), ({"sigma2": -1.0}, "sigma2"), ({"dt": 0.0}, "dt"),
+    ({"R": ((1.0, 2.0), (2.0, 1.0))}, "R"), ({"R": (1.0, 2.0, 3.0)}, "R"),
+    ({"H": ((1.0, 0.0, 0.0),)}, "H"), ({"x0": (0.0,)}, "x0"),
+    ({"feedback_moments": "x"}, "feedback_moments"), ({"P0": ((1.0, 0.0), (0.0, -1.0))}, "P0"),
+])
+def test_scenario_validation(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        cv.VectorScenario(**kwargs)
+
+
+def test_local_filters_match_filterpy_and_the_cross_covariance():
+    sc = cv.VectorScenario(P0=((1.0, 0.2), (0.2, 0.5)))
+    lf = sc.local_filters()
+    kf = KalmanFilter(dim_x=2, dim_z=2)
+    kf.F, kf.Q, kf.H, kf.R = sc.F, sc.Q, sc.Hs[0], sc.Rs[0]
+    kf.x, kf.P = np.array(sc.x0, dtype=float), np.array(sc.P0)
+    for t in range(sc.T):
+        kf.predict()
+        assert np.allclose(kf.P, lf["P_pred"][t, 0], rtol=1e-12)
+        kf.update(np.zeros(2))
+        assert np.allclose(kf.S, lf["S"][t, 0], rtol=1e-12)
+        assert np.allclose(kf.K, lf["gain"][t, 0], rtol=1e-12)
+    # (22)-(23): the cross-covariance of two sensors' prediction errors, by simulation
+    sc = cv.VectorScenario()
+    lf = sc.local_filters()
+    rng = np.random.default_rng(10)
+    n, t = 100_000, 5
+    x, z = sc.sample(rng, n)
+    xhat = np.broadcast_to(sc.F @ np.array(sc.x0), (n, 2, 2)).copy()
+    for k in range(t - 1):
+        nu = z[:, k] - xhat  # H = I
+        xhat = (xhat + np.einsum("ikm,nim->nik", lf["gain"][k], nu)) @ sc.F.T
+    e = (x[:, t][:, None, :] - xhat).reshape(n, 4)
+    emp = np.cov(e.T)
+    se = np.sqrt((emp ** 2 + np.outer(np.diag(emp), np.diag(emp))) / n)
+    assert np.all(np.abs(emp - lf["Sigma"][t - 1]) < 4.5 * se)
+
+
+# ----------------------------------------------------------------------------- the filter
+def _run(sc, scheme, **kw):
+    base = {"l": 1, "n_trials": 48, "n_particles": 200, "seed": 5}
+    base.update(kw)
+    return cv.run(sc, scheme, **base)
+
+
+def test_results_are_independent_of_chunking_and_executor():
+    sc = cv.VectorScenario()
+    kw = {"feedback": "state", "n_trials": 40, "block_size": 16}
+    a = _run(sc, "cfwmd", **kw)
+    b = _run(sc, "cfwmd", chunk_size=16, **kw)
+    with concurrent.futures.ThreadPoolExecutor(2) as ex:
+        c = _run(sc, "cfwmd", executor=ex, chunk_size=16, **kw)
+    assert np.array_equal(a.mc.samples, b.mc.samples)
+    assert np.array_equal(a.mc.samples, c.mc.samples)
+    kw["feedback"] = "none"
+    d, e = _run(sc, "cfwmd", **kw), _run(sc, "cfwmd", chunk_size=16, **kw)
+    assert np.array_equal(d.mc.samples, e.mc.samples)
+
+
+@pytest.mark.parametrize("N, scheme, feedback, likelihood, ess", [
+    (2, "random", "state", "exact", 1.0), (2, "cfwmd", "state", "exact", 1.0),
+    (4, "cfwmd", "state+cov", "exact", 1.0), (2, "cfwmd", "none", "exact", 1.0),
+    (2, "cfwmd", "state", "exact", 0.5), (2, "cfwmd", "none", "exact", 0.5),
+])
+def test_fused_filter_equals_the_reference_model(N, scheme, feedback, likelihood, ess):
+    sc = cv.VectorScenario(N=N)
+    kw = {"feedback": feedback, "likelihood": likelihood, "n_trials": 24, "ess_threshold": ess}
+    a = _run(sc, scheme, engine="reference", **kw)
+    b = _run(sc, scheme, **kw)
+    assert np.allclose(a.mc.samples, b.mc.samples, rtol=1e-7, atol=1e-9)
+
+
+def test_scalar_special_case_reproduces_the_scalar_library():
+    """H = [1, 0], R = 1 is Section VII.A: the same truth and measurements as censoring.run
+    (the first spawned stream), hence the same sensor decisions without feedback, and the same
+    RMSE within the (paired) Monte Carlo error of the two particle filters."""
+    sc = cv.VectorScenario(H=(1.0, 0.0), R=1.0)
+    kw = {"l": 1, "n_trials": 160, "n_particles": 300, "seed": 5}
+    a = cs.run(cs.LinearScenario(), "cfomd", feedback="none", **kw)
+    b = cv.run(sc, "cfomd", feedback="none", **kw)
+    assert np.array_equal(a.mc.samples[..., 2], b.mc.samples[..., 2])
+    for feedback in ("state", "state+cov"):
+        a = cs.run(cs.LinearScenario(), "cfwmd", feedback=feedback, **kw)
+        b = cv.run(sc, "cfwmd", feedback=feedback, **kw)
+        va, ia = cs._tavg_influence(a, "position")
+        vb, ib = cs._tavg_influence(b, "position")
+        d = ia - ib
+        assert _z(va - vb, d.std(ddof=1) / math.sqrt(d.size)) < 4
+        ta, tb = a.average_transmissions, b.average_transmissions
+        assert _z(ta[0] - tb[0], math.hypot(ta[1], tb[1])) < 4
+
+
+def test_printed_no_feedback_is_cfomd_and_exact_beats_it():
+    sc = cv.VectorScenario()
+    kw = {"feedback": "none", "n_trials": 300, "n_particles": 600}
+    printed = _run(sc, "cfwmd", likelihood="printed", **kw)
+    cfomd = _run(sc, "cfomd", **kw)
+    assert np.array_equal(printed.mc.samples, cfomd.mc.samples)
+    exact = _run(sc, "cfwmd", likelihood="exact", **kw)
+    diff, se = cs.paired_difference(exact, cfomd)
+    assert diff < 0 and diff / se < -3
+    assert exact.collapsed <= 0.01 * 300 * sc.T
+
+
+def test_design_target_is_met_without_feedback():
+    """Local innovations are N(0, S): each sensor sends with probability l / N exactly."""
+    res = _run(cv.VectorScenario(), "cfomd", feedback="none", n_trials=400, n_particles=20)
+    mean, se = res.average_transmissions
+    assert _z(mean - 1.0, se) < 4
+
+
+def test_ordering_of_the_schemes_with_feedback():
+    sc = cv.VectorScenario()
+    kw = {"n_trials": 200, "n_particles": 300}
+    r = {s: _run(sc, s, **kw) for s in ("all-send", "cfwmd", "cfomd", "random")}
+    for better, worse in (("all-send", "cfwmd"), ("cfwmd", "cfomd"), ("cfomd", "random")):
+        diff, se = cs.paired_difference(r[better], r[worse])
+        assert diff / se < -3, (better, worse, diff, se)
+
+
+def test_table_and_quadrature_filters_agree():
+    sc = cv.VectorScenario(N=4)
+    kw = {"feedback": "state+cov", "n_trials": 8, "n_particles": 100, "l": 2}
+    a = _run(sc, "cfwmd", probability="quadrature", **kw)
+    b = _run(sc, "cfwmd", **kw)
+    same = np.isclose(a.mc.samples, b.mc.samples, rtol=1e-4, atol=1e-6).all(axis=(1, 2))
+    assert same.mean() >= 0.75
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"scheme": "x"}, "scheme"), ({"feedback": "x"}, "feedback"),
+    ({"likelihood": "corrected", "feedback": "none"}, "corrected"),
+    ({"probability": "x"}, "probability"), ({"n_particles": 0}, "n_particles"),
+    ({"l": 3}, "l"), ({"engine": "x"}, "engine"),
+])
+def test_run_validation(kwargs, word):
+    kw = {"scheme": "cfwmd", "l": 1, "n_trials": 2, "n_particles": 10, "seed": 1}
+    kw.update(kwargs)
+    scheme = kw.pop("scheme")
+    with pytest.raises(ValueError, match=word):
+        cv.run(cv.VectorScenario(), scheme, **kw)
+    with pytest.raises(ValueError, match="VectorScenario"):
+        cv.run(cs.LinearScenario(), "cfwmd", l=1, n_trials=2, n_particles=10, seed=1)
+
+
+def test_scalar_default_likelihood_passes_through_where_unused():
+    """censoring.run's default likelihood='corrected' only matters for CFwMD without feedback."""
+    res = cv.run(cv.VectorScenario(), "cfwmd", l=1, n_trials=2, n_particles=10, seed=1,
+                 feedback="state", likelihood="corrected")
+    assert res.likelihood == "corrected" and res.mc.n_trials == 2

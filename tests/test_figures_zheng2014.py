@@ -1,0 +1,181 @@
+"""Registry entries of Part IV(a) (zheng2014, Section VII.A): each computes in the fast profile,
+plots with labelled axes (units), passes at least three claims, and the checks fail on
+corrupted data."""
+
+from __future__ import annotations
+
+import copy
+import functools
+
+import matplotlib.figure
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from fusioncenter import figures
+from fusioncenter.figures import zheng2014
+
+IDS = ["zheng2014-fig1", "zheng2014-fig2", "zheng2014-table1", "zheng2014-fig3",
+       "zheng2014-table1-choices"]
+STATUS = {"zheng2014-fig1": "reproduced", "zheng2014-fig2": "reproduced",
+          "zheng2014-table1": "differs", "zheng2014-fig3": "differs",
+          "zheng2014-table1-choices": "reproduced"}
+
+
+@functools.cache
+def _data(entry_id: str) -> dict:
+    return figures.get(entry_id).run_compute("fast")
+
+
+def data(entry_id: str) -> dict:
+    return copy.deepcopy(_data(entry_id))
+
+
+def failed(entry_id: str, d: dict) -> list[str]:
+    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
+
+
+@pytest.mark.parametrize("entry_id", IDS)
+def test_entry_computes_plots_and_passes(entry_id):
+    entry = figures.get(entry_id)
+    assert entry.paper == "zheng2014" and entry.status == STATUS[entry_id]
+    assert entry.chapter == "book/zheng2014/results"
+    assert entry.label == f"sec-{entry_id}"
+    assert entry.parameters and entry.note
+    d = data(entry_id)
+    assert set(d) >= {"n_trials", "n_particles", "N"}
+    fig = entry.run_plot(d)
+    assert isinstance(fig, matplotlib.figure.Figure)
+    axes = [ax for ax in fig.get_axes() if ax.has_data()]
+    assert axes
+    for ax in axes:
+        assert ax.get_xlabel() and ax.get_ylabel()
+        assert "(" in ax.get_ylabel() and "(" in ax.get_xlabel()  # units
+    plt.close(fig)
+    claims = entry.run_checks(d)
+    assert len(claims) >= 3 and all(claims), [c for c in claims if not c]
+
+
+def test_ids_placeholders_and_own_ids():
+    assert zheng2014.OWN_IDS == ("zheng2014-table1-choices",)
+    for entry_id in IDS:
+        assert figures.get(entry_id).compute is not None
+        assert entry_id in zheng2014.DATA_KEYS
+        assert figures.get(entry_id).compute.__module__ == "fusioncenter.figures.zheng2014"
+
+
+def test_open_choices_are_listed():
+    for entry_id in IDS[:4]:
+        p = figures.get(entry_id).parameters
+        assert "PF prior" in p["choices"] and "feedback moments" in p["choices"]
+        assert (p["sigma2"], p["r"], p["x0"], p["T"], p["dt"]) == (4.0, 1.0, [0.0, 10.0], 20,
+                                                                    1.0)
+        assert p["trials"]["paper"] == 5000 and p["particles"]["paper"] == 1000
+    assert figures.get("zheng2014-fig1").parameters["N"] == 2
+    assert figures.get("zheng2014-fig2").parameters["N"] == 4
+
+
+def test_paper_table_values_are_the_printed_ones():
+    assert zheng2014.PAPER_TABLE1["cfwmd"] == (1.0625, 1.1709, 1.3536, 1.7399, 2.7838)
+    assert zheng2014.PAPER_TABLE1["cfwmd2"] == (1.0530, 1.2230, 1.4992, 2.0002, 3.0095)
+    d = _data("zheng2014-table1")
+    assert np.array_equal(d["paper_cfwmd"], zheng2014.PAPER_TABLE1["cfwmd"])
+
+
+def test_fig2_and_table1_share_their_runs():
+    f2, t1 = _data("zheng2014-fig2"), _data("zheng2014-table1")
+    assert f2["n_trials"] == t1["n_trials"] and np.array_equal(f2["l"], t1["l"])
+    a, b = zheng2014._fig2_runs("fast", figures.get("zheng2014-fig2").seed)
+    assert a[2].average_transmissions[0] == t1["cfwmd"][2]
+    assert b[2].time_averaged_rmse()[0] == f2["tavg_position"][1, 2]
+
+
+def test_compute_is_seeded():
+    entry = figures.get("zheng2014-fig1")
+    a = _data("zheng2014-fig1")
+    b = entry.run_compute("fast")
+    assert np.array_equal(a["rmse_position"], b["rmse_position"])
+    c = entry.run_compute("fast", seed=7)
+    assert not np.array_equal(a["rmse_position"], c["rmse_position"])
+
+
+# ------------------------------------------------------------------ the checks can fail
+def test_fig1_checks_fail_when_schemes_swap():
+    d = data("zheng2014-fig1")
+    d["pair_diff_position"] = d["pair_diff_position"].copy()
+    d["pair_diff_position"][1] *= -1  # CFoMD better than CFwMD
+    assert any("position RMSE" in n for n in failed("zheng2014-fig1", d))
+    d = data("zheng2014-fig1")
+    d["pair_diff_velocity"] = -d["pair_diff_velocity"]
+    assert any("velocity RMSE" in n for n in failed("zheng2014-fig1", d))
+
+
+def test_fig1_checks_fail_on_wrong_transmissions():
+    d = data("zheng2014-fig1")
+    d["transmissions"] = d["transmissions"].copy()
+    d["transmissions"][1] = 1.2  # random selection
+    d["transmissions"][3] = 1.25  # CFwMD
+    names = failed("zheng2014-fig1", d)
+    assert any("random selection sends" in n for n in names)
+    assert any("save about half" in n for n in names)
+
+
+def test_fig2_checks_fail_when_the_covariance_feedback_flips():
+    d = data("zheng2014-fig2")
+    d["diff"] = -d["diff"]
+    names = failed("zheng2014-fig2", d)
+    assert any("l = 1: CFwMD beats" in n for n in names)
+    assert any("1 < l < 3" in n for n in names)
+    d = data("zheng2014-fig2")
+    d["rel_gain"] = d["rel_gain"][[0, 1, 2, 4, 3]].copy()  # swap l = 2 and l = 3
+    assert any("l = 3" in n for n in failed("zheng2014-fig2", d))
+    d = data("zheng2014-fig2")
+    d["tavg_position"] = d["tavg_position"][:, ::-1].copy()
+    assert any("decreases as l grows" in n for n in failed("zheng2014-fig2", d))
+
+
+def test_table1_checks_fail_on_perturbed_or_swapped_columns():
+    d = data("zheng2014-table1")
+    d["cfwmd2"] = d["cfwmd2"] + np.array([0, 0, 0, 0.15, 0])
+    d["z_cfwmd2"] = (d["cfwmd2"] - d["paper_cfwmd2"]) / (np.sqrt(2) * d["cfwmd2_stderr"])
+    assert any("CFwMD2 agrees with the paper" in n for n in failed("zheng2014-table1", d))
+    d = data("zheng2014-table1")
+    d["cfwmd"], d["cfwmd2"] = d["cfwmd2"], d["cfwmd"]
+    d["cfwmd_stderr"], d["cfwmd2_stderr"] = d["cfwmd2_stderr"], d["cfwmd_stderr"]
+    names = failed("zheng2014-table1", d)
+    assert any("closer to l" in n for n in names)
+    assert any("fewer than l" in n for n in names)
+
+
+def test_fig3_checks_fail_on_corruption():
+    d = data("zheng2014-fig3")
+    d["printed_max_abs_diff"] = 1e-3
+    assert any("as printed" in n for n in failed("zheng2014-fig3", d))
+    d = data("zheng2014-fig3")
+    d["pair_diff"] = -d["pair_diff"]
+    names = failed("zheng2014-fig3", d)
+    assert any("random selection (paired)" in n for n in names)
+    assert any("exact no-feedback filter" in n for n in names)
+    d = data("zheng2014-fig3")
+    d["transmissions"] = d["transmissions"] * 0.8
+    assert any("design rate" in n for n in failed("zheng2014-fig3", d))
+
+
+def test_choices_checks_fail_when_the_schemes_swap():
+    d = data("zheng2014-table1-choices")
+    d["cfwmd"], d["cfwmd2"] = d["cfwmd2"], d["cfwmd"]
+    d["cfwmd_stderr"], d["cfwmd2_stderr"] = d["cfwmd2_stderr"], d["cfwmd_stderr"]
+    d["diff_z"] = -d["diff_z"]
+    names = failed("zheng2014-table1-choices", d)
+    assert any("closer to l" in n for n in names)
+    assert any("fewer than l" in n for n in names)
+    assert any("lower position RMSE" in n for n in names)
+
+
+def test_table1_silent_run_checks_can_fail():
+    d = data("zheng2014-table1")
+    d["silent_pairs_z"] = -d["silent_pairs_z"]
+    assert any("consecutive steps" in n for n in failed("zheng2014-table1", d))
+    d = data("zheng2014-table1")
+    d["p_none"] = np.repeat(d["p_none_independent"][:, None], 2, axis=1) * 0.9
+    assert any("independent-sensor" in n for n in failed("zheng2014-table1", d))

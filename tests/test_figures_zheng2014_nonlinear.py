@@ -1,0 +1,170 @@
+"""Registry entries of Part IV(b), nonlinear tracking (zheng2014 Figs. 7-10, Table III): each
+computes in the fast profile, plots with labelled axes, passes its checks, and the checks fail
+on corrupted data."""
+
+from __future__ import annotations
+
+import copy
+import functools
+
+import matplotlib.figure
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from fusioncenter import figures
+from fusioncenter.figures import zheng2014_nonlinear as zn
+
+IDS = ["zheng2014-fig7", "zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10",
+       "zheng2014-table3"]
+
+
+@functools.cache
+def _data(entry_id: str) -> dict:
+    return figures.get(entry_id).run_compute("fast")
+
+
+def data(entry_id: str) -> dict:
+    return copy.deepcopy(_data(entry_id))
+
+
+def failed(entry_id: str, d: dict) -> list[str]:
+    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
+
+
+@pytest.mark.parametrize("entry_id", IDS)
+def test_entry_computes_plots_and_passes(entry_id):
+    entry = figures.get(entry_id)
+    assert entry.paper == "zheng2014" and entry.status in ("reproduced", "differs")
+    assert entry.chapter == "book/zheng2014/nonlinear"
+    assert entry.label == f"sec-{entry_id}"
+    assert entry.parameters and entry.note
+    assert "choices" in entry.parameters and entry.parameters["trials"]["paper"] == 200
+    assert entry.parameters["particles"]["paper"] == 10_000
+    d = data(entry_id)
+    fig = entry.run_plot(d)
+    assert isinstance(fig, matplotlib.figure.Figure)
+    axes = [ax for ax in fig.get_axes() if ax.has_data()]
+    assert axes
+    for ax in axes:
+        assert ax.get_xlabel() and ax.get_ylabel()
+        assert "(" in ax.get_ylabel()  # units
+    plt.close(fig)
+    claims = entry.run_checks(d)
+    assert len(claims) >= 3 and all(claims), [c for c in claims if not c]
+
+
+def test_placeholders_are_replaced_and_own_ids_empty():
+    assert zn.OWN_IDS == ()
+    for entry_id in IDS:
+        assert figures.get(entry_id).compute is not None
+
+
+def test_runs_are_shared_between_entries():
+    _data("zheng2014-fig8")
+    _data("zheng2014-fig9")
+    _data("zheng2014-fig10")
+    seed = figures.get("zheng2014-fig8").seed
+    keys = [k for k in zn._RUNS if k[:2] == ("fast", seed)]
+    # Fig. 8: 4 runs; Fig. 9 adds 3 x 4 (l = 2 shared); Fig. 10 adds CFwMD2 at 3 l (CFwMD
+    # shared with Fig. 9)
+    assert len(keys) == 4 + 12 + 3
+    t3, f10 = _data("zheng2014-table3"), _data("zheng2014-fig10")
+    assert zn._fig10_table3.cache_info().hits >= 1  # one computation for both entries
+    assert np.array_equal(t3["cfwmd_transmissions"], f10["cfwmd_transmissions"])
+    f8, f9 = _data("zheng2014-fig8"), _data("zheng2014-fig9")
+    i8, i9 = f8["schemes"].index("cfwmd"), list(f9["l"]).index(2.0)
+    assert f8["tavg_position"][i8] == f9["tavg_position"][f9["schemes"].index("cfwmd"), i9]
+
+
+def test_compute_is_seeded():
+    a = _data("zheng2014-fig7")
+    b = figures.get("zheng2014-fig7").run_compute("fast")
+    assert np.array_equal(a["trajectory"], b["trajectory"])
+    c = figures.get("zheng2014-fig7").run_compute("fast", seed=7)
+    assert not np.array_equal(a["trajectory"], c["trajectory"])
+
+
+def test_parameters_are_the_papers():
+    p = figures.get("zheng2014-fig8").parameters
+    assert (p["N"], p["region_m"], p["P0_signal"], p["alpha"], p["n_exponent"], p["r"],
+            p["sigma2"], p["dt_s"], p["T"]) == (9, 20.0, 1e3, 1.0, 2.0, 1.0, 0.1, 0.5, 20)
+    assert p["x0_mean"] == [-8.0, 2.0, -8.0, 2.0] and p["x0_cov_diag"] == [9.0, 4.0, 9.0, 4.0]
+    assert p["l"] == 2
+    assert figures.get("zheng2014-fig10").parameters["l"] == [2, 4, 6]
+    t = figures.get("zheng2014-table3").parameters["printed"]
+    assert t["cfwmd"] == (1.5978, 3.3480, 5.4835) and t["cfwmd2"] == (1.8970, 3.8775, 5.9533)
+
+
+# ------------------------------------------------------------------ the checks can fail
+def test_fig7_checks_fail_on_a_wrong_grid_or_a_target_that_stays():
+    d = data("zheng2014-fig7")
+    d["sensors"] = d["sensors"][:8]
+    assert any("3 x 3 grid" in n for n in failed("zheng2014-fig7", d))
+    d = data("zheng2014-fig7")
+    d["fraction_outside"] = np.zeros_like(d["fraction_outside"])
+    assert any("moves out" in n for n in failed("zheng2014-fig7", d))
+
+
+def _swap(d, a, b, keys):
+    i, j = d["schemes"].index(a), d["schemes"].index(b)
+    for k in keys:
+        d[k][[i, j]] = d[k][[j, i]]
+
+
+def test_fig8_checks_fail_when_the_ordering_is_reversed():
+    d = data("zheng2014-fig8")
+    d["diff_cfwmd-cfomd"] = -d["diff_cfwmd-cfomd"]
+    names = failed("zheng2014-fig8", d)
+    assert any("outperforms CFoMD" in n for n in names)
+    d = data("zheng2014-fig8")
+    d["diff_cfwmd-all-send"] = -abs(d["diff_cfwmd-all-send"])
+    assert any("all-send is the best" in n for n in failed("zheng2014-fig8", d))
+    d = data("zheng2014-fig8")
+    d["transmissions"] = d["transmissions"] + 1.0
+    assert any("78 %" in n for n in failed("zheng2014-fig8", d))
+    d = data("zheng2014-fig8")
+    d["rise_pooled"] = -abs(d["rise_pooled"])
+    assert any("increase at the later steps" in n for n in failed("zheng2014-fig8", d))
+
+
+def test_fig9_checks_fail_on_corrupted_curves():
+    d = data("zheng2014-fig9")
+    d["diff_cfwmd-cfomd"] = np.abs(d["diff_cfwmd-cfomd"])
+    names = failed("zheng2014-fig9", d)
+    assert any("clear advantage" in n for n in names)
+    assert any("never significantly worse" in n for n in names)
+    d = data("zheng2014-fig9")
+    d["more_tx_gain"] = -d["more_tx_gain"]
+    assert any("more transmissions help" in n for n in failed("zheng2014-fig9", d))
+    d = data("zheng2014-fig9")
+    d["spread_shrink"] = -abs(d["spread_shrink"])
+    assert any("approach each other" in n for n in failed("zheng2014-fig9", d))
+
+
+def test_fig10_checks_fail_when_covariance_feedback_does_not_help():
+    d = data("zheng2014-fig10")
+    d["pooled_later"] = abs(d["pooled_later"])
+    d["pooled_all"] = abs(d["pooled_all"])
+    d["diff_all"] = np.abs(d["diff_all"]) + 10 * d["diff_all_stderr"]
+    names = failed("zheng2014-fig10", d)
+    assert any("second half" in n for n in names)
+    assert any("not significantly worse" in n for n in names)
+    assert any("is better than CFwMD, pooled" in n for n in names)
+
+
+def test_fast_thresholds_keep_the_papers_effect_size():
+    assert zn.z_required(3.0, 200) == 3.0 and zn.z_required(3.0, 400) == 3.0
+    assert zn.z_required(3.0, 50) == pytest.approx(1.5)
+
+
+def test_table3_checks_fail_on_wrong_counts():
+    d = data("zheng2014-table3")
+    d["closer"] = -np.abs(d["closer"])
+    assert any("more closely" in n for n in failed("zheng2014-table3", d))
+    d = data("zheng2014-table3")
+    d["cfwmd_transmissions"] = d["l"] + 0.5
+    assert any("fewer than l" in n for n in failed("zheng2014-table3", d))
+    d = data("zheng2014-table3")
+    d["half_shortfall"] = -np.abs(d["half_shortfall"])
+    assert any("more than half" in n for n in failed("zheng2014-table3", d))
