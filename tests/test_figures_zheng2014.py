@@ -4,13 +4,11 @@ corrupted data."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
 import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import zheng2014
@@ -20,19 +18,6 @@ IDS = ["zheng2014-fig1", "zheng2014-fig2", "zheng2014-table1", "zheng2014-fig3",
 STATUS = {"zheng2014-fig1": "reproduced", "zheng2014-fig2": "reproduced",
           "zheng2014-table1": "differs", "zheng2014-fig3": "differs",
           "zheng2014-table1-choices": "reproduced"}
-
-
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 @pytest.mark.parametrize("entry_id", IDS)
@@ -78,12 +63,12 @@ def test_open_choices_are_listed():
 def test_paper_table_values_are_the_printed_ones():
     assert zheng2014.PAPER_TABLE1["cfwmd"] == (1.0625, 1.1709, 1.3536, 1.7399, 2.7838)
     assert zheng2014.PAPER_TABLE1["cfwmd2"] == (1.0530, 1.2230, 1.4992, 2.0002, 3.0095)
-    d = _data("zheng2014-table1")
+    d = cached_data("zheng2014-table1")
     assert np.array_equal(d["paper_cfwmd"], zheng2014.PAPER_TABLE1["cfwmd"])
 
 
 def test_fig2_and_table1_share_their_runs():
-    f2, t1 = _data("zheng2014-fig2"), _data("zheng2014-table1")
+    f2, t1 = cached_data("zheng2014-fig2"), cached_data("zheng2014-table1")
     assert f2["n_trials"] == t1["n_trials"] and np.array_equal(f2["l"], t1["l"])
     a, b = zheng2014._fig2_runs("fast", figures.get("zheng2014-fig2").seed)
     assert a[2].average_transmissions[0] == t1["cfwmd"][2]
@@ -92,7 +77,7 @@ def test_fig2_and_table1_share_their_runs():
 
 def test_compute_is_seeded():
     entry = figures.get("zheng2014-fig1")
-    a = _data("zheng2014-fig1")
+    a = cached_data("zheng2014-fig1")
     b = entry.run_compute("fast")
     assert np.array_equal(a["rmse_position"], b["rmse_position"])
     c = entry.run_compute("fast", seed=7)

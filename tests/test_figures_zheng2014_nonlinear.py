@@ -4,32 +4,15 @@ on corrupted data."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
-import matplotlib.figure
-import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import zheng2014_nonlinear as zn
 
 IDS = ["zheng2014-fig7", "zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10",
        "zheng2014-table3"]
-
-
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 @pytest.mark.parametrize("entry_id", IDS)
@@ -41,17 +24,7 @@ def test_entry_computes_plots_and_passes(entry_id):
     assert entry.parameters and entry.note
     assert "choices" in entry.parameters and entry.parameters["trials"]["paper"] == 200
     assert entry.parameters["particles"]["paper"] == 10_000
-    d = data(entry_id)
-    fig = entry.run_plot(d)
-    assert isinstance(fig, matplotlib.figure.Figure)
-    axes = [ax for ax in fig.get_axes() if ax.has_data()]
-    assert axes
-    for ax in axes:
-        assert ax.get_xlabel() and ax.get_ylabel()
-        assert "(" in ax.get_ylabel()  # units
-    plt.close(fig)
-    claims = entry.run_checks(d)
-    assert len(claims) >= 3 and all(claims), [c for c in claims if not c]
+    check_entry(entry_id, paper=entry.paper, chapter_prefix=entry.chapter)
 
 
 def test_placeholders_are_replaced_and_own_ids_empty():
@@ -61,24 +34,24 @@ def test_placeholders_are_replaced_and_own_ids_empty():
 
 
 def test_runs_are_shared_between_entries():
-    _data("zheng2014-fig8")
-    _data("zheng2014-fig9")
-    _data("zheng2014-fig10")
+    cached_data("zheng2014-fig8")
+    cached_data("zheng2014-fig9")
+    cached_data("zheng2014-fig10")
     seed = figures.get("zheng2014-fig8").seed
     keys = [k for k in zn._RUNS if k[:2] == ("fast", seed)]
     # Fig. 8: 4 runs; Fig. 9 adds 3 x 4 (l = 2 shared); Fig. 10 adds CFwMD2 at 3 l (CFwMD
     # shared with Fig. 9)
     assert len(keys) == 4 + 12 + 3
-    t3, f10 = _data("zheng2014-table3"), _data("zheng2014-fig10")
+    t3, f10 = cached_data("zheng2014-table3"), cached_data("zheng2014-fig10")
     assert zn._fig10_table3.cache_info().hits >= 1  # one computation for both entries
     assert np.array_equal(t3["cfwmd_transmissions"], f10["cfwmd_transmissions"])
-    f8, f9 = _data("zheng2014-fig8"), _data("zheng2014-fig9")
+    f8, f9 = cached_data("zheng2014-fig8"), cached_data("zheng2014-fig9")
     i8, i9 = f8["schemes"].index("cfwmd"), list(f9["l"]).index(2.0)
     assert f8["tavg_position"][i8] == f9["tavg_position"][f9["schemes"].index("cfwmd"), i9]
 
 
 def test_compute_is_seeded():
-    a = _data("zheng2014-fig7")
+    a = cached_data("zheng2014-fig7")
     b = figures.get("zheng2014-fig7").run_compute("fast")
     assert np.array_equal(a["trajectory"], b["trajectory"])
     c = figures.get("zheng2014-fig7").run_compute("fast", seed=7)

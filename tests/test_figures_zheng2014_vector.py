@@ -4,31 +4,14 @@ corrupted data."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
-import matplotlib.figure
-import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import zheng2014_vector as zv
 
 IDS = ["zheng2014-fig4", "zheng2014-fig5", "zheng2014-table2", "zheng2014-fig6"]
-
-
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 @pytest.mark.parametrize("entry_id", IDS)
@@ -38,17 +21,7 @@ def test_entry_computes_plots_and_passes(entry_id):
     assert entry.chapter == "book/zheng2014/vector"
     assert entry.label == f"sec-{entry_id}"
     assert entry.parameters and entry.note and "choices" in entry.parameters
-    d = data(entry_id)
-    fig = entry.run_plot(d)
-    assert isinstance(fig, matplotlib.figure.Figure)
-    axes = [ax for ax in fig.get_axes() if ax.has_data()]
-    assert axes
-    for ax in axes:
-        assert ax.get_xlabel() and ax.get_ylabel()
-        assert "(" in ax.get_ylabel()  # units
-    plt.close(fig)
-    claims = entry.run_checks(d)
-    assert len(claims) >= 3 and all(claims), [c for c in claims if not c]
+    check_entry(entry_id, paper=entry.paper, chapter_prefix=entry.chapter)
 
 
 def test_placeholders_are_replaced_and_parameters_are_the_papers():
@@ -69,14 +42,14 @@ def test_placeholders_are_replaced_and_parameters_are_the_papers():
 def test_fig5_and_table2_share_one_computation():
     a, b = zv._fig5_runs("fast", figures.get("zheng2014-fig5").seed)
     assert zv._fig5_runs("fast", figures.get("zheng2014-table2").seed)[0] is a
-    d = _data("zheng2014-table2")
+    d = cached_data("zheng2014-table2")
     assert np.allclose(d["cfwmd"], [r.average_transmissions[0] for r in a])
     assert np.allclose(d["cfwmd2"], [r.average_transmissions[0] for r in b])
 
 
 def test_compute_is_seeded():
     entry = figures.get("zheng2014-fig4")
-    a = _data("zheng2014-fig4")
+    a = cached_data("zheng2014-fig4")
     b = entry.run_compute("fast")
     assert np.array_equal(a["rmse_position"], b["rmse_position"])
 

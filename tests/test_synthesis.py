@@ -4,13 +4,11 @@ corrupted data)."""
 
 from __future__ import annotations
 
-import copy
-import functools
-
 import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from figure_helpers import cached_data, data, failed
 
 from fusioncenter import censoring, event, figures, models, montecarlo, synthesis
 from fusioncenter.fading import Rayleigh
@@ -157,17 +155,6 @@ def test_bad_input_raises_value_error(call, match):
 
 
 # ----------------------------------------------------------------------------- registry entries
-@functools.cache
-def _data(entry_id: str) -> dict:
-    return figures.get(entry_id).run_compute("fast")
-
-
-def data(entry_id: str) -> dict:
-    return copy.deepcopy(_data(entry_id))
-
-
-def failed(entry_id: str, d: dict) -> list[str]:
-    return [c.name for c in figures.get(entry_id).run_checks(d) if not c]
 
 
 @pytest.mark.parametrize("entry_id", IDS)
@@ -194,7 +181,7 @@ def test_entry_computes_plots_and_passes(entry_id):
 
 
 def test_frontier_compute_is_seeded_and_paired():
-    d = _data("synthesis-frontier")
+    d = cached_data("synthesis-frontier")
     assert d["n_trials"] == fs.TRIALS["fast"] and d["n_particles"] == fs.PARTICLES["fast"]
     assert np.all(np.isfinite(d["cfwmd_minus_trigger_se"])) and \
         np.all(d["cfwmd_minus_trigger_se"] > 0)
@@ -204,7 +191,7 @@ def test_frontier_compute_is_seeded_and_paired():
 
 
 def test_cost_entry_has_no_timing_in_its_claims_and_timings_are_positive():
-    d = _data("synthesis-cost")
+    d = cached_data("synthesis-cost")
     assert d["kf_time"] > 0 and np.all(d["pf_time_cfwmd"] > 0)
 
 
