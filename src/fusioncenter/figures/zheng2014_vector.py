@@ -26,13 +26,18 @@ import math
 import multiprocessing
 import os
 
-import matplotlib.ticker
 import numpy as np
 
 from fusioncenter import censoring as cs
 from fusioncenter import censoring_vector as cv
 from fusioncenter import plotting
 from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (Z_ORDER = 4)
+    _curves,
+    _log_y,
+    _stack,
+    _z_claim_ordered,
+)
 from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -137,42 +142,11 @@ def _run(sc: cv.VectorScenario, scheme: str, *, feedback: str, l: float, n: int,
                   chunk_size=None if pool is None else 256)
 
 
-def _curves(res: cs.CensoringResult) -> dict:
-    p, v = res.rmse_position, res.rmse_velocity
-    tp, tpe = res.time_averaged_rmse("position")
-    tv, tve = res.time_averaged_rmse("velocity")
-    tr, tre = res.average_transmissions
-    return {"rp": p.value, "rpe": p.stderr, "rv": v.value, "rve": v.stderr, "tp": tp,
-            "tpe": tpe, "tv": tv, "tve": tve, "tr": tr, "tre": tre, "col": res.collapsed}
-
-
-def _stack(cur: list[dict], key: str) -> np.ndarray:
-    return np.array([c[key] for c in cur])
-
-
 def _params(sc: cv.VectorScenario, **extra) -> dict:
     return {"N": sc.N, "H": [list(r) for r in sc.H], "R": [list(r) for r in sc.R],
             "sigma2": sc.sigma2, "T": sc.T, "x0": list(sc.x0), "dt": sc.dt,
             "trials": dict(TRIALS), "particles": dict(PARTICLES), **extra,
             "choices": sc.choices}
-
-
-def _z_claim_ordered(name: str, pairs, diff, se) -> Claim:
-    """Each ``diff`` (better minus worse) must be negative by more than Z_ORDER errors."""
-    z = -np.asarray(diff) / np.asarray(se)
-    detail = "; ".join(f"{a} - {b} = {d:+.4f} +/- {s:.4f} (z = {zz:.1f})"
-                       for (a, b), d, s, zz in zip(pairs, diff, se, z, strict=True))
-    return Claim(name, bool(np.all(z > Z_ORDER)), detail)
-
-
-def _log_y(ax) -> None:
-    """Log y axis with plain tick labels at 1, 2, 5 x 10^k (and 1.5, 3, 7 between)."""
-    ax.set_yscale("log")
-    ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
-    ax.yaxis.set_minor_locator(matplotlib.ticker.LogLocator(base=10.0, subs=(1.5, 3.0, 7.0)))
-    fmt = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
-    ax.yaxis.set_major_formatter(fmt)
-    ax.yaxis.set_minor_formatter(fmt)
 
 
 def _rmse_panels(data: dict, names, styles=None):
