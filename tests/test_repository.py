@@ -39,7 +39,7 @@ def test_lock_pins_jupyter_book_1_and_every_extension():
     assert pins["jupyter-book"].startswith("1.")
     for ext in ["sphinx", "sphinx-book-theme", "sphinx-proof", "sphinx-exercise",
                 "sphinxcontrib-bibtex", "myst-nb", "myst-parser", "sphinx-mathjax-offline",
-                "nbval", "jupytext", "numpy", "scipy", "sympy", "matplotlib", "filterpy",
+                "nbval", "jupytext", "numpy", "scipy", "sympy", "matplotlib", "filterpy", "numba",
                 "playwright", "dask", "distributed"]:
         assert ext in pins, f"{ext} is not pinned in requirements/lock.txt"
 

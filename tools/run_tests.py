@@ -9,6 +9,11 @@ Stages, in order (all run; the exit code is 1 if any failed):
 5. site        pytest on the built site: no external resources, headless-Chromium check
 
 A skipped test in the site stage counts as a failure: the browser check may not be skipped.
+
+Stages 2-3 (one after the other) and stage 4 run at the same time, one lane per core of the
+2-core machine: each executes notebooks or tests in a single process most of the time. Their
+output goes to ``_build/test-reports/<stage>.log`` and is printed whole when the stage ends.
+``FUSIONCENTER_TEST_LANES=1`` runs every stage one after the other instead.
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import threading
 import time
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -47,11 +53,27 @@ def _junit_counts(path: Path) -> tuple[int, int, int]:
     return tests - failed - skipped, failed, skipped
 
 
+_PRINT = threading.Lock()
+
+
 def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | None = None,
-        skips_fail: bool = False) -> Stage:
-    print(f"\n===== {name}: {' '.join(cmd)}", flush=True)
+        skips_fail: bool = False, log: bool = False) -> Stage:
+    """Run one stage; with ``log`` its output goes to a file, printed whole when it ends."""
+    with _PRINT:
+        print(f"\n===== {name}: {' '.join(cmd)}", flush=True)
     t0 = time.perf_counter()
-    rc = subprocess.call(cmd, cwd=ROOT, env={**os.environ, **(env or {})})
+    env = {**os.environ, **(env or {})}
+    if log:
+        path = REPORTS / f"{name.replace(' ', '-')}.log"
+        with path.open("w") as fh:
+            rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=fh, stderr=subprocess.STDOUT,
+                                 stdin=subprocess.DEVNULL)
+        with _PRINT:
+            print(f"\n===== {name}: output ({path.relative_to(ROOT)})", flush=True)
+            sys.stdout.write(path.read_text(errors="replace"))
+            sys.stdout.flush()
+    else:
+        rc = subprocess.call(cmd, cwd=ROOT, env=env)
     dt = time.perf_counter() - t0
     stage = Stage(name, rc == 0, dt)
     if junit is not None:
@@ -63,8 +85,30 @@ def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | Non
             print(f"{name}: {stage.skipped} skipped test(s) count as failures here", flush=True)
     else:
         stage.passed, stage.failed = (1, 0) if rc == 0 else (0, 1)
-    print(f"===== {name}: {'ok' if stage.ok else 'FAILED'} in {dt:.1f} s", flush=True)
+    with _PRINT:
+        print(f"===== {name}: {'ok' if stage.ok else 'FAILED'} in {dt:.1f} s", flush=True)
     return stage
+
+
+def lanes(*lane_fns) -> list[Stage]:
+    """Run each lane (a function returning its stages) in its own thread; stages in order."""
+    results: list[list[Stage]] = [[] for _ in lane_fns]
+    errors: list[BaseException] = []
+
+    def body(i, fn):
+        try:
+            results[i] = fn()
+        except BaseException as exc:  # reported below: a crashed lane fails the run
+            errors.append(exc)
+
+    threads = [threading.Thread(target=body, args=(i, fn)) for i, fn in enumerate(lane_fns)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        raise errors[0]
+    return [stage for lane in results for stage in lane]
 
 
 def main() -> int:
@@ -73,21 +117,33 @@ def main() -> int:
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
     site = ROOT / "_build" / "fast" / "_build" / "html"
     t0 = time.perf_counter()
-    stages = [
-        run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
-                     "book/_ext"]),
-        run("library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
-                        f"--junitxml={REPORTS / 'library.xml'}"],
-            junit=REPORTS / "library.xml", env=fast),
-        run("nbval", [*pytest, "--nbval", "--nbval-current-env",
-                      "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
-                      f"--junitxml={REPORTS / 'nbval.xml'}"],
-            junit=REPORTS / "nbval.xml", env=fast),
-        run("site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict"]),
+    parallel = os.environ.get("FUSIONCENTER_TEST_LANES", "2") != "1"
+
+    def tests_lane():
+        return [
+            run("library", [*pytest, "tests", "-m", "not site and not slow",
+                            "--ignore=tests/golden", f"--junitxml={REPORTS / 'library.xml'}"],
+                junit=REPORTS / "library.xml", env=fast, log=parallel),
+            run("nbval", [*pytest, "--nbval", "--nbval-current-env",
+                          "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
+                          f"--junitxml={REPORTS / 'nbval.xml'}"],
+                junit=REPORTS / "nbval.xml", env=fast, log=parallel),
+        ]
+
+    def build_lane():
+        return [run("site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict"],
+                    log=parallel)]
+
+    stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
+                           "book/_ext"])]
+    if parallel:
+        stages += lanes(tests_lane, build_lane)
+    else:
+        stages += tests_lane() + build_lane()
+    stages.append(
         run("site", [*pytest, "tests/site", "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
             junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
-            skips_fail=True),
-    ]
+            skips_fail=True))
     total = time.perf_counter() - t0
     print("\n===== make test summary")
     for s in stages:

@@ -69,7 +69,7 @@ import numpy as np
 import scipy.stats
 from scipy import special
 
-from fusioncenter import montecarlo, particle
+from fusioncenter import _kernels, montecarlo, particle
 
 __all__ = [
     "SCHEMES",
@@ -953,14 +953,11 @@ class _LogTable:
                 work: np.ndarray) -> np.ndarray:
         """``f((y - shift[:, None]) * scale)`` for an even table, using ``work`` (the shape of
         ``y``) as scratch (saves three array passes over ``__call__``)."""
-        t = np.subtract(y, shift[:, None], out=work)
-        np.abs(t, out=t)
-        t *= scale / self.step
-
-        def exact_x(far):
-            return (y - shift[:, None])[far] * scale
-
-        return self._finish(t, exact_x)
+        out = work
+        if _kernels.table_shifted(self.coef, self.n_int, y, shift, scale / self.step, out):
+            far = np.isnan(out)  # beyond the table, or an interval with a non-finite node
+            out[far] = self.fn((y - shift[:, None])[far] * scale)
+        return out
 
     def _finish(self, t: np.ndarray, exact_x) -> np.ndarray:
         """Interpolate at ``t = (x - x_k0) / step`` (overwritten); ``exact_x(mask)`` gives the
@@ -1095,9 +1092,12 @@ class _FusedFilter:
       (:func:`_interp_rows`); CFwMD2's factor (``h`` differs per trial) uses two ``ndtr`` per
       particle;
     * additive constants of a trial's log weights are dropped, the weights are normalized once
-      (``exp`` of the log weights minus their maximum), the covariance is computed only when
-      CFwMD2 feeds it back, and systematic resampling is one ``cumsum``, ``ceil``, ``repeat``
-      and one gather per coordinate.
+      (``exp`` of the log weights minus their maximum), and the covariance is computed only when
+      CFwMD2 feeds it back;
+    * three inner loops are compiled (:mod:`fusioncenter._kernels`, Numba): the interpolation
+      table at every particle, the weight sum, weighted means and ESS in one pass, and
+      systematic resampling in one pass per trial (NumPy needs ``cumsum``, ``ceil``, ``repeat``
+      and a gather per coordinate). They do the NumPy arithmetic, row by row.
     """
 
     def __init__(self, sc: LinearScenario, scheme: str, feedback: str, likelihood: str,
@@ -1271,7 +1271,9 @@ class _FusedFilter:
         mmax = max(R.stop - R.start for R in blocks)
         work = [np.empty((mmax, P)) for _ in range(5)]
         gbuf = np.empty((mmax, P, kq))
-        ar = {}
+        rowbuf = np.empty((4, mmax))
+        every = np.ones(mmax, dtype=bool)
+        anc = np.empty(P + 1, dtype=np.intp)
         for R in blocks:
             m = R.stop - R.start
             lw, tmp, cb, p2, v2 = (w[:m] for w in work)
@@ -1309,14 +1311,9 @@ class _FusedFilter:
                     mx[dead] = 0.0
                 lw -= mx[:, None]
                 w = np.exp(lw, out=lw)
-                S = w.sum(axis=1)
-                # A1.5: estimate
-                np.multiply(w, p, out=tmp)
-                mp = tmp.sum(axis=1) / S
-                np.multiply(w, v, out=tmp)
-                mv = tmp.sum(axis=1) / S
-                np.square(w, out=tmp)
-                ess = S * S / tmp.sum(axis=1)
+                # A1.5: estimate (weight sum, weighted means, ESS in one pass)
+                S, mp, mv, ess = (a[:m] for a in rowbuf)
+                _kernels.weighted_moments(w, p, v, S, mp, mv, ess)
                 out[R, k, 0] = (mp - x_true[R, t, 0]) ** 2
                 out[R, k, 1] = (mv - x_true[R, t, 1]) ** 2
                 out[R, k, 3] = ess / P
@@ -1334,7 +1331,8 @@ class _FusedFilter:
                     with np.errstate(divide="ignore"):
                         keep = np.log(w / S[:, None])
                     lw_prev[R] = np.where(todo[:, None], 0.0, keep)
-                self._resample(w, S, u, p, v, p2, v2, cb, ar, todo)
+                _kernels.systematic_resample_rows(w, S, u, every[:m] if todo is None else todo,
+                                                  p, v, p2, v2, anc)
                 p, p2 = p2, p
                 v, v2 = v2, v
         return out
@@ -1353,26 +1351,6 @@ class _FusedFilter:
         F, Q = self.sc.F, self.sc.Q
         pc = F @ cov @ F.T + Q
         return 0.5 * (pc + np.swapaxes(pc, -1, -2))
-
-    @staticmethod
-    def _resample(w, S, u, p, v, new_p, new_v, cb, ar, todo) -> None:
-        m, P = w.shape
-        c = np.cumsum(w, axis=1, out=cb)
-        c /= c[:, -1:]
-        c *= P
-        c -= u[:, None]
-        np.ceil(c, out=c)
-        c[:, -1] = P
-        cnt = np.empty((m, P), dtype=np.intp)
-        cnt[:, 0] = c[:, 0]
-        np.subtract(c[:, 1:], c[:, :-1], out=cnt[:, 1:], casting="unsafe")
-        if todo is not None:
-            cnt[~todo] = 1  # identity for the trials that are not resampled
-        if m not in ar:
-            ar[m] = np.arange(m * P)
-        idx = np.repeat(ar[m], cnt.ravel())
-        np.take(p.ravel(), idx, out=new_p.reshape(-1))
-        np.take(v.ravel(), idx, out=new_v.reshape(-1))
 
 
 def _streams(rng: np.random.Generator) -> tuple[np.random.Generator, np.random.Generator]:
@@ -1559,10 +1537,10 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     Runs through :func:`fusioncenter.montecarlo.simulate`: results are bitwise identical for any
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
     ``n_trials`` and ``block_size``. Every scheme except the exact no-feedback filter runs the
-    fused filter (:class:`_FusedFilter`): on the project's 2-core machine about 85 ns per
-    particle and step for CFwMD with state feedback (the reference engine: about 195;
-    ``benchmarks/bench_censoring.py``), of which about 17 are the normal draws, 14 the silent
-    factor and 28 the resampling; less for the schemes without a silent factor, more for CFwMD2
+    fused filter (:class:`_FusedFilter`): on the project's 2-core machine about 20 ns per
+    particle and step for CFwMD with state feedback (the reference engine: about 60;
+    ``benchmarks/bench_censoring.py``), of which about 7 are the normal draws, 3 the silent
+    factor and 4 the resampling; less for the schemes without a silent factor, more for CFwMD2
     (two ``ndtr`` per particle) and for the corrected Proposition 3 (bivariate normal
     probabilities). Peak memory of a task
     (tracemalloc): a few MiB for the fused filter (it works on sub-blocks of about 32k
