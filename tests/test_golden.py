@@ -7,6 +7,7 @@ that nbval does fail on a changed output.
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -14,6 +15,7 @@ from pathlib import Path
 import jupytext
 import nbformat
 import pytest
+from nbval.plugin import get_sanitize_patterns
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
@@ -84,3 +86,31 @@ def test_nbval_fails_on_a_changed_output(tmp_path):
     )
     assert proc.returncode != 0, proc.stdout
     assert "1 failed" in proc.stdout
+
+
+def _sanitized(text: str) -> str:
+    patterns = get_sanitize_patterns((ROOT / "tests/golden/sanitize.cfg").read_text())
+    for regex, replace in patterns:
+        text = re.sub(regex, replace, text)
+    return text
+
+
+@pytest.mark.parametrize("a, b", [
+    ("0.5547560425483333", "0.5547560425483332"),  # last digits of a repr
+    ("36.57335788380344", "36.573357883804"),
+    ("relative gap 3.0e-13]", "relative gap 5.1e-16]"),  # sizes of rounding errors
+    ("max |diff| 4.2e-15 0.0e+00", "max |diff| 0.0e+00 -1.1e-16"),
+])
+def test_sanitizer_ignores_machine_rounding(a, b):
+    assert _sanitized(a) == _sanitized(b)
+
+
+@pytest.mark.parametrize("a, b", [
+    ("rmse 0.8143", "rmse 0.8144"),  # a number printed with a fixed format
+    ("0.55475604", "0.55475605"),  # 8 decimals
+    ("0.5547560425483333", "0.5547561425483333"),
+    ("gap 2.6e-09", "gap 7.3e-08"),  # above 1e-9: compared
+    ("p 1.5e-03", "p 1.6e-03"),
+])
+def test_sanitizer_keeps_real_differences(a, b):
+    assert _sanitized(a) != _sanitized(b)
