@@ -47,13 +47,13 @@ def test_systematic_resampling_kernel_equals_numpy(kind, P):
     u[0] = 0.0
     S = w.sum(axis=1)
     S[:] = [np.cumsum(row)[-1] for row in w]  # the kernel's contract: the sequential sum
-    todo = np.ones(m, dtype=bool)
-    new_p, new_v = np.empty_like(p), np.empty_like(v)
-    _kernels.systematic_resample_rows(w, S, u, todo, p, v, new_p, new_v,
-                                      np.empty(P + 1, dtype=np.intp))
+    anc = np.empty((m, P), dtype=np.intp)
+    _kernels.systematic_ancestors(w, S, u, np.ones(m, dtype=bool), anc)
     idx = _numpy_systematic(w, u)
+    assert np.array_equal(anc, idx)
+    new_p = np.empty_like(p)
+    _kernels.take_rows(p, anc, new_p)
     assert np.array_equal(new_p, np.take_along_axis(p, idx, axis=1))
-    assert np.array_equal(new_v, np.take_along_axis(v, idx, axis=1))
     # the ancestors are the library's systematic resampling (it normalizes the weights first:
     # the same counts up to rounding, exact when the mass is on one particle)
     if kind == "one":
@@ -67,25 +67,26 @@ def test_systematic_resampling_kernel_leaves_rows_not_to_resample():
     m, P = 6, 50
     w = np.exp(rng.standard_normal((m, P)))
     S = np.array([np.cumsum(row)[-1] for row in w])
-    p, v = rng.standard_normal((2, m, P))
     u = rng.random(m)
     todo = np.array([True, False, True, False, False, True])
-    new_p, new_v = np.empty_like(p), np.empty_like(v)
-    _kernels.systematic_resample_rows(w, S, u, todo, p, v, new_p, new_v,
-                                      np.empty(P + 1, dtype=np.intp))
-    assert np.array_equal(new_p[~todo], p[~todo]) and np.array_equal(new_v[~todo], v[~todo])
-    idx = _numpy_systematic(w[todo], u[todo])
-    assert np.array_equal(new_p[todo], np.take_along_axis(p[todo], idx, axis=1))
-    # and the offspring counts are unbiased: mean over many uniforms -> P w
-    counts = np.zeros(P)
-    n_u = 4000
-    for uu in np.linspace(0, 1, n_u, endpoint=False):
-        out = np.empty((1, P))
-        _kernels.systematic_resample_rows(w[:1], S[:1], np.array([uu]), np.ones(1, bool),
-                                          np.arange(P, dtype=float)[None], p[:1], out,
-                                          np.empty((1, P)), np.empty(P + 1, dtype=np.intp))
-        counts += np.bincount(out[0].astype(int), minlength=P)
-    np.testing.assert_allclose(counts / n_u, P * w[0] / S[0], atol=2e-3)
+    anc = np.empty((m, P), dtype=np.intp)
+    _kernels.systematic_ancestors(w, S, u, todo, anc)
+    assert np.array_equal(anc[~todo], np.broadcast_to(np.arange(P), (int((~todo).sum()), P)))
+    assert np.array_equal(anc[todo], _numpy_systematic(w[todo], u[todo]))
+
+
+def test_systematic_resampling_kernel_is_unbiased():
+    """Over a grid of uniforms the offspring counts average to ``P w`` (to the grid's 1/n)."""
+    rng = np.random.default_rng(4)
+    P, n_u = 40, 4000
+    w = np.exp(2 * rng.standard_normal((n_u, P)))
+    w[:] = w[0]
+    S = np.full(n_u, np.cumsum(w[0])[-1])
+    anc = np.empty((n_u, P), dtype=np.intp)
+    _kernels.systematic_ancestors(w, S, np.arange(n_u) / n_u, np.ones(n_u, dtype=bool), anc)
+    counts = np.bincount(anc.ravel(), minlength=P) / n_u
+    np.testing.assert_allclose(counts, P * w[0] / S[0], atol=2.0 / n_u)
+    assert np.array_equal(anc, np.sort(anc, axis=1))  # ancestors in order within a row
 
 
 def test_weighted_moments_kernel_equals_numpy():

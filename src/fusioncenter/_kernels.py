@@ -21,7 +21,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["systematic_resample_rows", "table_shifted", "weighted_moments"]
+__all__ = ["systematic_ancestors", "table_shifted", "take_rows", "weighted_moments"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -47,39 +47,49 @@ def weighted_moments(w, p, v, S, mp, mv, ess):
 
 
 @numba.njit(cache=True, nogil=True)
-def systematic_resample_rows(w, S, u, todo, p, v, new_p, new_v, anc):
-    """Systematic resampling of every row ``b`` with ``todo[b]`` (one uniform ``u[b]``); the
-    other rows are copied unchanged. Particle ``i`` is kept ``c_i - c_{i-1}`` times, with
-    ``c_i = ceil(P C_i / S - u)`` from the running sum ``C`` of the weights, ``c_{-1} = 0``
-    and ``c_{P-1} = P``; ``S[b]`` must be the row's sequential sum (``C_{P-1}``, as
-    :func:`weighted_moments` computes it). ``anc`` (at least ``P + 1`` integers) is scratch.
+def systematic_ancestors(w, S, u, todo, anc):
+    """Ancestors ``anc (m, P)`` of systematic resampling for every row ``b`` with ``todo[b]``
+    (one uniform ``u[b]``); the other rows get the identity. Particle ``i`` is kept
+    ``c_i - c_{i-1}`` times, with ``c_i = ceil(P C_i / S - u)`` from the running sum ``C`` of
+    the weights, ``c_{-1} = 0`` and ``c_{P-1} = P``: the arithmetic, in its order, of the NumPy
+    version (``cumsum``, divide, multiply, subtract, ``ceil``). ``S[b]`` must be the row's
+    sequential sum ``C_{P-1}``, as :func:`weighted_moments` computes it.
 
-    Branch-light: particle ``i`` is written as the ancestor of slot ``c_{i-1}`` (the particles
-    with no offspring write the same slot before the one that owns it), then a running maximum
-    over the slots fills the runs of repeated ancestors."""
+    Branch-light: particle ``i`` is written as the ancestor of slot ``c_{i-1}`` (particles with
+    no offspring write the same slot before the one that owns it), then a running maximum
+    fills the runs of repeated ancestors."""
     m, P = w.shape
     for b in range(m):
         if not todo[b]:
-            for i in range(P):
-                new_p[b, i] = p[b, i]
-                new_v[b, i] = v[b, i]
+            for k in range(P):
+                anc[b, k] = k
             continue
+        for k in range(P):
+            anc[b, k] = 0
         total = S[b]
-        for k in range(P + 1):
-            anc[k] = 0
+        ub = u[b]
         c = 0.0
         lo = 0
-        ub = u[b]
         for i in range(P - 1):
             c += w[b, i]
-            anc[lo] = i
+            if lo < P:
+                anc[b, lo] = i
             lo = int(math.ceil(c / total * P - ub))
-        anc[lo] = P - 1
+        if lo < P:
+            anc[b, lo] = P - 1
         a = 0
         for k in range(P):
-            a = max(a, anc[k])
-            new_p[b, k] = p[b, a]
-            new_v[b, k] = v[b, a]
+            a = max(a, anc[b, k])
+            anc[b, k] = a
+
+
+@numba.njit(cache=True, nogil=True)
+def take_rows(src, anc, dst):
+    """``dst[b, k] = src[b, anc[b, k]]`` (resampled particles, row by row)."""
+    m, P = anc.shape
+    for b in range(m):
+        for k in range(P):
+            dst[b, k] = src[b, anc[b, k]]
 
 
 @numba.njit(cache=True, nogil=True)

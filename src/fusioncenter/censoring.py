@@ -1273,7 +1273,7 @@ class _FusedFilter:
         gbuf = np.empty((mmax, P, kq))
         rowbuf = np.empty((4, mmax))
         every = np.ones(mmax, dtype=bool)
-        anc = np.empty(P + 1, dtype=np.intp)
+        anc = np.empty((mmax, P), dtype=np.intp)
         for R in blocks:
             m = R.stop - R.start
             lw, tmp, cb, p2, v2 = (w[:m] for w in work)
@@ -1331,8 +1331,10 @@ class _FusedFilter:
                     with np.errstate(divide="ignore"):
                         keep = np.log(w / S[:, None])
                     lw_prev[R] = np.where(todo[:, None], 0.0, keep)
-                _kernels.systematic_resample_rows(w, S, u, every[:m] if todo is None else todo,
-                                                  p, v, p2, v2, anc)
+                a = anc[:m]
+                _kernels.systematic_ancestors(w, S, u, every[:m] if todo is None else todo, a)
+                _kernels.take_rows(p, a, p2)
+                _kernels.take_rows(v, a, v2)
                 p, p2 = p2, p
                 v, v2 = v2, v
         return out
