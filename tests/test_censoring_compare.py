@@ -180,6 +180,7 @@ def test_payoff_rows_are_consistent_with_the_entries():
         assert math.isclose(r["random_ratio"], (m["random"] - m["all-send"])
                             / (m["cfomd"] - m["all-send"]), rel_tol=1e-9)
         assert 0 < r["share_stderr"] and 0 < r["random_ratio_stderr"]
+        assert r["share_stderr"] == cc.delta_bound(r["share_gradient"], r["share_input_stderr"])
     sweep = cc.gain_by_l(data["zheng2014-fig9"])
     assert sweep["l"][0] == 1.0 and math.isclose(sweep["gain"][0], rows[4]["gain"])
     with pytest.raises(ValueError, match="missing"):

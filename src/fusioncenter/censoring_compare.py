@@ -309,14 +309,15 @@ def _row(setting, figure, feedback, N, l, rmse, rmse_se, sent, gain, rest=None, 
         h, sh = rest
         L = g + h
         share = g / L
-        share_se = delta_bound([h / L**2, -g / L**2], [sg, sh])
+        grad, inputs = [h / L**2, -g / L**2], [sg, sh]
         L_terms = [(g, sg), (h, sh)]
     else:
         L, sL = loss
         h = L - g
         share = g / L
-        share_se = delta_bound([1 / L, -g / L**2], [sg, sL])
+        grad, inputs = [1 / L, -g / L**2], [sg, sL]
         L_terms = [(L, sL)]
+    share_se = delta_bound(grad, inputs)
     # R = (random - all-send) / (CFoMD - all-send)
     if isinstance(random_excess, tuple):  # random - CFoMD: R = 1 + D / L
         D, sD = random_excess
@@ -333,6 +334,8 @@ def _row(setting, figure, feedback, N, l, rmse, rmse_se, sent, gain, rest=None, 
         "rmse_stderr": {k: float(v) for k, v in rmse_se.items()}, "cfwmd_sent": float(sent),
         "gain": float(g), "gain_stderr": float(sg), "gain_z": float(g / sg) if sg > 0 else math.inf,
         "loss": float(L), "rest": float(h), "share": float(share), "share_stderr": share_se,
+        "share_gradient": [float(x) for x in grad],
+        "share_input_stderr": [float(x) for x in inputs],
         "random_ratio": float(R), "random_ratio_stderr": R_se, "z_needed": float(z_needed),
         **(extra or {}),
     }
@@ -347,11 +350,14 @@ def payoff_rows(data: Mapping[str, Mapping]) -> list[dict]:
     (transmissions per step); ``gain`` = CFoMD - CFwMD with its paired ``gain_stderr`` and
     ``gain_z``; ``loss`` = CFoMD - all-send and ``rest`` = CFwMD - all-send; ``share`` = gain /
     loss, the part of CFoMD's loss that CFwMD wins back, with the conservative ``share_stderr``
-    (:func:`delta_bound`); ``random_ratio`` = (random - all-send) / (CFoMD - all-send) with
-    ``random_ratio_stderr``; ``z_needed``, the z-score the registry asks of an ordering in that
-    setting. Rows without feedback use the exact filter as CFwMD and add ``printed_gain``, CFoMD
-    minus CFwMD with the printed Proposition 3 or 6 (and ``printed_max_abs_diff``, the largest
-    difference of their squared errors). The nonlinear rows are ``l = 1`` (Fig. 9) and ``l = 2``
+    (:func:`delta_bound` of ``share_gradient`` with ``share_input_stderr``, the paired errors of
+    the inputs: gain and rest with feedback, gain and loss without); ``random_ratio`` =
+    (random - all-send) / (CFoMD - all-send) with ``random_ratio_stderr``; ``z_needed``, the
+    z-score the registry asks of an ordering in that setting.
+
+    Rows without feedback use the exact filter as CFwMD and add ``printed_gain``, CFoMD minus
+    CFwMD with the printed Proposition 3 or 6, and ``printed_max_abs_diff``, the largest
+    difference of their squared errors. The nonlinear rows are ``l = 1`` (Fig. 9) and ``l = 2``
     (Fig. 8).
     """
     from fusioncenter.figures.zheng2014_nonlinear import Z_ORDER as Z_NL
