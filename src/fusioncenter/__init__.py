@@ -12,6 +12,7 @@ chose, or managed, to send. One module per topic:
 - :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014)
 - :mod:`fusioncenter.censoring_vector`     censoring of vector observations (zheng2014 Section V)
 - :mod:`fusioncenter.censoring_nonlinear`  the nonlinear sensor-grid tracker (zheng2014 Section VI)
+- :mod:`fusioncenter.censoring_compare`    zheng2014's three settings read together (Tables I-III)
 - :mod:`fusioncenter.synthesis`   the four papers' schemes on one problem, over faded links
 - :mod:`fusioncenter.particle`    a particle filter vectorized over trials and particles
 - :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
