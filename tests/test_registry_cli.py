@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import matplotlib.figure
+import numpy as np
 import pytest
 
 from fusioncenter import figures
@@ -200,3 +201,29 @@ def test_cli_bad_option_and_module_entry_point():
     proc = subprocess.run([sys.executable, "-m", "fusioncenter", "list"], capture_output=True,
                           text=True)
     assert proc.returncode == 0 and "dey2009-fig1" in proc.stdout
+
+
+def test_compute_cache_is_used_only_when_the_build_names_a_folder(monkeypatch, tmp_path):
+    calls = []
+
+    def compute(profile, seed):
+        calls.append((profile, seed))
+        return {"x": np.arange(3.0) + seed, "profile": profile}
+
+    entry = figures.Entry(id="book-cache-probe", paper="book", kind="figure", caption="c",
+                          chapter="book/intro", compute=compute)
+    monkeypatch.delenv(figures.registry.CACHE_ENV, raising=False)
+    entry.run_compute("fast", 1)
+    entry.run_compute("fast", 1)
+    assert len(calls) == 2  # no folder: every call computes
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path / "cache"))
+    a = entry.run_compute("fast", 1)
+    b = entry.run_compute("fast", 1)
+    c = entry.run_compute("fast", 2)  # another seed, another result
+    d = entry.run_compute("paper", 1)  # another profile
+    assert len(calls) == 5
+    assert np.array_equal(a["x"], b["x"]) and b["profile"] == "fast"
+    assert c["x"][0] == 2.0 and d["profile"] == "paper"
+    assert sorted(p.name for p in (tmp_path / "cache").iterdir()) == [
+        "book-cache-probe.fast.1.pickle", "book-cache-probe.fast.2.pickle",
+        "book-cache-probe.paper.1.pickle"]

@@ -64,8 +64,10 @@ def main(argv: list[str] | None = None) -> int:
 
     out = OUTPUTS[args.profile]
     prepare(out, args.profile)
-    env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile,
-               PYTHONHASHSEED="0")
+    # registry results are shared between chapters through a folder that prepare() wipes with
+    # the rest of the build when the fingerprint changes
+    env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, PYTHONHASHSEED="0",
+               FUSIONCENTER_COMPUTE_CACHE=str(out / "_build" / "compute-cache"))
     jb = Path(sys.executable).with_name("jupyter-book")
     cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html"]
     if args.strict:

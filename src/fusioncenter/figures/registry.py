@@ -9,8 +9,11 @@ within the stated Monte Carlo error) or ``differs`` (the note says how and why).
 
 from __future__ import annotations
 
+import os
+import pickle
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from fusioncenter.profile import check_profile
@@ -41,6 +44,9 @@ PAPERS: dict[str, tuple[str, str]] = {
 }
 
 STATUSES = ("not-started", "reproduced", "differs")
+
+#: Environment variable naming a folder where :meth:`Entry.run_compute` keeps its results.
+CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
 
 
 class EntryNotReady(RuntimeError):
@@ -104,12 +110,33 @@ class Entry:
         return fn
 
     def run_compute(self, profile: str = "fast", seed: int | None = None) -> dict:
+        """``compute(profile, seed)``, checked to return a dict.
+
+        If the environment variable :data:`CACHE_ENV` names a folder, the data are stored there
+        (one pickle per id, profile and seed) and read back by later calls, in any process:
+        the book's build sets it to a folder inside its output that it wipes whenever the
+        library, the lock or the configuration change (``tools/build_book.py``), so that a
+        chapter that gathers other chapters' entries does not run them a second time. Unset
+        (the tests, nbval, the command line), every call computes.
+        """
         check_profile(profile)
         if seed is not None and (not isinstance(seed, int) or seed < 0):
             raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-        data = self._need("compute")(profile, self.seed if seed is None else seed)
+        seed = self.seed if seed is None else seed
+        folder = os.environ.get(CACHE_ENV, "").strip()
+        path = Path(folder) / f"{self.id}.{profile}.{seed}.pickle" if folder else None
+        if path is not None and path.exists():
+            with path.open("rb") as fh:
+                return pickle.load(fh)
+        data = self._need("compute")(profile, seed)
         if not isinstance(data, dict):
             raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+            with tmp.open("wb") as fh:
+                pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            tmp.replace(path)  # atomic: a reader never sees half a file
         return data
 
     def run_plot(self, data: dict):
