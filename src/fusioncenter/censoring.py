@@ -70,6 +70,10 @@ import scipy.stats
 from scipy import special
 
 from fusioncenter import montecarlo, particle
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import nonneg as _nonneg
+from fusioncenter._validate import posint as _posint
+from fusioncenter._validate import positive as _positive
 
 __all__ = [
     "SCHEMES",
@@ -104,34 +108,6 @@ LIKELIHOODS = ("corrected", "printed", "exact")
 _R2 = 1.0 / math.sqrt(2.0)
 _LOG_HALF = math.log(0.5)
 _LOG_2PI = math.log(2.0 * math.pi)
-
-
-# ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
-def _positive(name: str, value) -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr <= 0):
-        raise ValueError(f"{name} must be positive (a variance), got {value!r}")
-    return arr
-
-
-def _nonneg(name: str, value) -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr < 0):
-        raise ValueError(f"{name} must be non-negative, got {value!r}")
-    return arr
 
 
 # ----------------------------------------------------------------------------- threshold

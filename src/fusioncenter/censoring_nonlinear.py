@@ -58,6 +58,7 @@ import numpy as np
 from scipy import special
 
 from fusioncenter import censoring, montecarlo, particle
+from fusioncenter._validate import posint as _posint
 
 __all__ = [
     "SCHEMES",
@@ -81,12 +82,6 @@ FEEDBACK = ("state", "state+cov", "none")
 
 
 # ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
 def _posfloat(name: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise ValueError(f"{name} must be a positive number, got {value!r}")

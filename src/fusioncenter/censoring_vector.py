@@ -74,6 +74,8 @@ from scipy import special
 
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo, particle
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import posint as _posint
 
 __all__ = [
     "SCHEMES",
@@ -110,19 +112,6 @@ _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 
 
 # ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
 def _eta(value) -> float:
     if isinstance(value, bool) or not np.isscalar(value) or not np.isfinite(value) or value < 0:
         raise ValueError(f"eta must be a finite non-negative number, got {value!r}")
