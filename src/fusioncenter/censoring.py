@@ -463,8 +463,92 @@ def _as_tuple(value):
     return float(arr) if arr.ndim == 0 else tuple(np.asarray(arr).tolist())
 
 
+def _wna(dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
+    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
+    return (np.array([[1.0, dt], [0.0, 1.0]]),
+            np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
+
+
+def _dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
+    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``)."""
+    try:
+        return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
+    except ValueError as err:
+        raise ValueError(f"P0: {err}") from None
+
+
+def _check_x0_pair(value) -> np.ndarray:
+    x0 = _finite("x0", value)
+    if x0.shape != (2,):
+        raise ValueError(f"x0 must be a [position, velocity] pair, got {value!r}")
+    return x0
+
+
+def _check_feedback_moments(value) -> None:
+    if value not in ("analytic", "particles"):
+        raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
+
+
+def _time_axis_choice(T: int) -> str:
+    return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
+            "transmissions are reported for t = 1..T")
+
+
+#: The choices of :attr:`LinearScenario.choices` that every scenario shares (the schemes and the
+#: particle filter).
+_SCHEME_CHOICES = {
+    "random selection": "each sensor sends independently with probability l/N",
+    "all-send": "every sensor sends at every step (l is ignored)",
+    "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
+    "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
+                  "before resampling (A1.5)",
+}
+
+
+class _Scenario:
+    """What the scenarios (:class:`LinearScenario`, ``censoring_vector.VectorScenario``,
+    ``censoring_nonlinear.NonlinearScenario``: frozen dataclasses keeping their
+    :class:`fusioncenter.particle.LinearGaussianDynamics` in ``_cache["dynamics"]``) share: the
+    target's law, and the simulation of the true trajectories."""
+
+    position_index = (0,)
+    velocity_index = (1,)
+
+    @property
+    def dynamics(self) -> particle.LinearGaussianDynamics:
+        """Initial law and transition (for the PF and for simulating the truth)."""
+        return self._cache["dynamics"]
+
+    @property
+    def d(self) -> int:
+        """Dimension of the state."""
+        return self.dynamics.dim
+
+    @property
+    def F(self) -> np.ndarray:
+        return self.dynamics.F
+
+    @property
+    def Q(self) -> np.ndarray:
+        return self.dynamics.Q
+
+    def _truth(self, rng: np.random.Generator, n: int, *, draw_x0: bool = True) -> np.ndarray:
+        """True trajectories ``x (n, T+1, d)`` of ``n`` trials: draws ``x_0`` (else ``x_0`` is
+        the prior mean), then ``T`` transitions."""
+        dyn = self.dynamics
+        x = np.empty((n, self.T + 1, self.d))
+        if draw_x0:
+            x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
+        else:
+            x[:, 0] = dyn.m0
+        for t in range(1, self.T + 1):
+            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        return x
+
+
 @dataclass(frozen=True)
-class LinearScenario:
+class LinearScenario(_Scenario):
     """The linear tracking model of zheng2014 Section VII.A (scalar observations).
 
     ``x_k = [position, velocity]``, ``x_{k+1} = F x_k + u_k``, ``F = [[1, dt], [0, 1]]``,
@@ -506,21 +590,15 @@ class LinearScenario:
         if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
             raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "
                              f"got shape {r.shape}")
-        x0 = _finite("x0", self.x0)
-        if x0.shape != (2,):
-            raise ValueError(f"x0 must be a [position, velocity] pair, got {self.x0!r}")
+        x0 = _check_x0_pair(self.x0)
         h = _finite("h", self.h)
         if h.shape not in ((2,), (N, 2)) or np.any(np.all(h.reshape(-1, 2) == 0, axis=-1)):
             raise ValueError(f"h must be a non-zero vector (2,) or one per sensor ({N}, 2), "
                              f"got {self.h!r}")
-        if self.feedback_moments not in ("analytic", "particles"):
-            raise ValueError("feedback_moments must be 'analytic' or 'particles', "
-                             f"got {self.feedback_moments!r}")
+        _check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
-        dyn = particle.LinearGaussianDynamics(
-            F=np.array([[1.0, dt], [0.0, 1.0]]),
-            Q=sigma2 * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]),
-            m0=x0, P0=P0)  # validates P0
+        F, q = _wna(dt)
+        dyn = _dynamics(F, sigma2 * q, x0, P0)  # validates P0
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "r", _as_tuple(r))
@@ -531,24 +609,7 @@ class LinearScenario:
             object.__setattr__(self, "P0", tuple(tuple(row) for row in P0.tolist()))
         self._cache["dynamics"] = dyn
 
-    # --- model pieces
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        """Initial law and transition (for the PF and for simulating the truth)."""
-        return self._cache["dynamics"]
-
-    @property
-    def d(self) -> int:
-        return 2
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
-
+    # --- model pieces (dynamics, d, F, Q: see _Scenario)
     @property
     def H(self) -> np.ndarray:
         """Measurement vectors, one row per sensor ``(N, 2)``."""
@@ -559,16 +620,12 @@ class LinearScenario:
         """Measurement-noise variances ``(N,)``."""
         return np.broadcast_to(np.asarray(self.r, dtype=float), (self.N,)).copy()
 
-    position_index = (0,)
-    velocity_index = (1,)
-
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
         P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
         return {
-            "time axis": f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T "
-                         f"(T = {self.T}); RMSE and transmissions are reported for t = 1..T",
+            "time axis": _time_axis_choice(self.T),
             "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0} (the paper: the "
                              "initial state 'is chosen to be [0 10]')",
             "PF prior": "particles at t = 0 drawn from N(x0, P0): all equal to x0 when P0 = 0",
@@ -591,11 +648,7 @@ class LinearScenario:
                 "particles: mean and covariance of the propagated particle cloud at step k"),
             "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
                          "(eq. (8))",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **_SCHEME_CHOICES,
             "no-feedback likelihood": "'corrected' (default) or 'printed' Proposition 3, both with "
                                       "the paper's law (21)-(23) for the local predictions, or "
                                       "'exact' (particles carry the local predictions)",
@@ -605,11 +658,7 @@ class LinearScenario:
         """Truth and measurements of ``n`` trials: ``x (n, T+1, 2)`` (``x[:, 0] = x_0``), ``z (n,
         T, N)`` (``z[:, t-1]`` measured at time ``t``). Draws ``x_0``, then ``T`` transitions,
         then all measurement noises."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 2))
-        x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n)
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
         z = x[:, 1:] @ self.H.T + noise
         return x, z

@@ -116,7 +116,7 @@ def _tuple2(a) -> tuple:
 
 # ----------------------------------------------------------------------------- the scenario
 @dataclass(frozen=True)
-class NonlinearScenario:
+class NonlinearScenario(censoring._Scenario):
     """The nonlinear tracking model of zheng2014 Section VII.C.
 
     State ``x = [x, xdot, y, ydot]`` (m, m/s); ``x_{k+1} = F x_k + u_k``, ``F`` and
@@ -187,14 +187,9 @@ class NonlinearScenario:
             P0m = P0
         else:
             raise ValueError(f"P0 must be a diagonal (4,) or a (4, 4) covariance, got {self.P0!r}")
-        dt, s2 = self.dt, self.sigma2
-        F1 = np.array([[1.0, dt], [0.0, 1.0]])
-        q = np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]])
-        try:
-            dyn = particle.LinearGaussianDynamics(F=np.kron(np.eye(2), F1),
-                                                  Q=s2 * np.kron(np.eye(2), q), m0=x0, P0=P0m)
-        except ValueError as err:
-            raise ValueError(f"P0: {err}") from None
+        F1, q = censoring._wna(self.dt)
+        dyn = censoring._dynamics(np.kron(np.eye(2), F1), self.sigma2 * np.kron(np.eye(2), q),
+                                  x0, P0m)
         object.__setattr__(self, "sensors", _tuple2(sensors))
         object.__setattr__(self, "region", region)
         object.__setattr__(self, "T", T)
@@ -205,26 +200,11 @@ class NonlinearScenario:
         self._cache["pos"] = sensors
         self._cache["N"] = N
 
-    # --- model pieces (the attributes CensoringResult and the FC use)
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        return self._cache["dynamics"]
-
+    # --- model pieces (the attributes CensoringResult and the FC use; dynamics, d, F, Q: see
+    # censoring._Scenario)
     @property
     def N(self) -> int:
         return self._cache["N"]
-
-    @property
-    def d(self) -> int:
-        return 4
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
 
     @property
     def positions(self) -> np.ndarray:
@@ -280,11 +260,7 @@ class NonlinearScenario:
             "Jacobian": "g_k^i = dh^i/dx at the (broadcast or local) prediction xhat_{k|k-1}",
             "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
                          "(eq. (43))",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **censoring._SCHEME_CHOICES,
         }
 
     # --- simulation
@@ -292,14 +268,7 @@ class NonlinearScenario:
         """Truth and measurements of ``n`` trials: ``x (n, T+1, 4)`` (``x[:, 0] = x_0``), ``z (n,
         T, N)`` (``z[:, k-1]`` measured at step ``k``). Draws ``x_0`` (if ``initial_truth`` is
         ``"random"``), then ``T`` transitions, then all measurement noises."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 4))
-        if self.initial_truth == "random":
-            x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        else:
-            x[:, 0] = dyn.m0
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
         z = amplitude(self, x[:, 1:, [0, 2]]) + noise
         return x, z

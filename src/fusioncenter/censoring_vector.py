@@ -636,7 +636,7 @@ def _nested(arr: np.ndarray):
 
 
 @dataclass(frozen=True)
-class VectorScenario:
+class VectorScenario(cs._Scenario):
     """The tracking model of zheng2014 Section VII.B (vector observations).
 
     The target of Section VII.A (``x = [position, velocity]``, ``F = [[1, dt], [0, 1]]``,
@@ -695,20 +695,11 @@ class VectorScenario:
             raise ValueError(f"R must be ({m}, {m}) or one per sensor ({N}, {m}, {m}), "
                              f"got shape {R.shape}")
         R = _pd("R", R, m)
-        x0 = _finite("x0", self.x0)
-        if x0.shape != (2,):
-            raise ValueError(f"x0 must be a [position, velocity] pair, got {self.x0!r}")
-        if self.feedback_moments not in ("analytic", "particles"):
-            raise ValueError("feedback_moments must be 'analytic' or 'particles', "
-                             f"got {self.feedback_moments!r}")
+        x0 = cs._check_x0_pair(self.x0)
+        cs._check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
-        try:
-            dyn = particle.LinearGaussianDynamics(
-                F=np.array([[1.0, dt], [0.0, 1.0]]),
-                Q=float(sigma2) * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]),
-                m0=x0, P0=P0)
-        except ValueError as err:
-            raise ValueError(f"P0: {err}") from None
+        F, q = cs._wna(dt)
+        dyn = cs._dynamics(F, float(sigma2) * q, x0, P0)
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "dt", dt)
@@ -720,27 +711,11 @@ class VectorScenario:
             object.__setattr__(self, "P0", _nested(P0))
         self._cache["dynamics"] = dyn
 
-    # --- model pieces
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        return self._cache["dynamics"]
-
-    @property
-    def d(self) -> int:
-        return 2
-
+    # --- model pieces (dynamics, d, F, Q: see censoring._Scenario)
     @property
     def m(self) -> int:
         """Dimension of every sensor's measurement."""
         return np.asarray(self.H).shape[-2]
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
 
     @property
     def Hs(self) -> np.ndarray:
@@ -754,16 +729,12 @@ class VectorScenario:
         R = np.asarray(self.R, dtype=float)
         return np.broadcast_to(R, (self.N, self.m, self.m)).copy()
 
-    position_index = (0,)
-    velocity_index = (1,)
-
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
         P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
         return {
-            "time axis": f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T "
-                         f"(T = {self.T}); RMSE and transmissions are reported for t = 1..T",
+            "time axis": cs._time_axis_choice(self.T),
             "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0}; the PF's particles "
                              "start from the same law",
             "motion model": f"the target of Section VII.A: sigma^2 = {self.sigma2} (Section "
@@ -787,11 +758,7 @@ class VectorScenario:
             "threshold": f"eta = chi2_m upper-(l/N) quantile with m = {self.m} (eq. (32))",
             "silent probability": "P(q^T q < eta) by quadrature (interpolated tables in the "
                                   "filter, error < 1e-6 in the log); the paper sampled it",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **cs._SCHEME_CHOICES,
             "no-feedback likelihood": "'exact' (particles carry every local prediction; "
                                       "default) or 'printed' Proposition 6 (= CFoMD)",
         }
@@ -799,11 +766,7 @@ class VectorScenario:
     def sample(self, rng: np.random.Generator, n: int):
         """Truth ``x (n, T+1, 2)`` and measurements ``z (n, T, N, m)`` of ``n`` trials: draws
         ``x_0``, then ``T`` transitions, then all measurement noises ``(n, T, N, m)``."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 2))
-        x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n)
         noise = rng.standard_normal((n, self.T, self.N, self.m))
         L = np.linalg.cholesky(self.Rs)
         z = np.einsum("ntk,imk->ntim", x[:, 1:], self.Hs) + np.einsum("ntij,imj->ntim", noise, L)
