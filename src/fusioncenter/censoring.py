@@ -717,7 +717,46 @@ class LinearScenario(_Scenario):
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _FusionCentre:
+class _PriorModel:
+    """The initial law and transition of a :class:`fusioncenter.particle.FilterModel` whose
+    particles are the target's state: those of the scenario ``self.sc``."""
+
+    def initial(self, rng, n, P):
+        return self.sc.dynamics.initial(rng, n, P)
+
+    def transition(self, rng, t, x):
+        return self.sc.dynamics.transition(rng, t, x)
+
+
+class _FeedbackModel(_PriorModel):
+    """The FC's feedback of a linear target (``self.sc.feedback_moments``): the predicted mean
+    ``pred_mean (n, d)`` and covariance ``pred_cov (n, d, d)`` it broadcasts at every step."""
+
+    def _first_prediction(self, n: int) -> None:
+        """The broadcast of step 1: ``F x0`` and ``F P0 F^T + Q`` for every trial."""
+        dyn = self.sc.dynamics
+        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, dyn.dim)).copy()
+        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q,
+                                        (n, dyn.dim, dyn.dim)).copy()
+
+    def _cloud_moments(self, x: np.ndarray) -> None:
+        """``feedback_moments="particles"``: broadcast the mean and covariance of the propagated
+        particle cloud ``x (n, P, d)``."""
+        if self.sc.feedback_moments == "particles":
+            self.pred_mean = x.mean(axis=1)
+            dev = x - self.pred_mean[:, None, :]
+            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        if self.sc.feedback_moments == "analytic":
+            F, Q = self.sc.F, self.sc.Q
+            self.pred_mean = mean @ F.T
+            if cov is not None:
+                pc = F @ cov @ F.T + Q
+                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
+
+
+class _FusionCentre(_FeedbackModel):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials: it also plays the sensors, because with feedback their decisions at step
     ``t`` depend on what the FC broadcast after step ``t - 1``."""
@@ -734,9 +773,7 @@ class _FusionCentre:
         self.groups = sc.sensor_groups()
         self.local = sc.local_filters()
         self.sent = np.zeros((n, T, N), dtype=bool)
-        dyn = sc.dynamics
-        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
-        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        self._first_prediction(n)
         self.censor = scheme in ("cfomd", "cfwmd")
         self.needs_cov = feedback == "state+cov" and sc.feedback_moments == "analytic" \
             and self.censor
@@ -754,10 +791,7 @@ class _FusionCentre:
 
     def _feedback_decisions(self, t: int, x: np.ndarray) -> np.ndarray:
         """With feedback: innovations against the broadcast prediction; returns ``s`` ``(n, N)``."""
-        if self.sc.feedback_moments == "particles":
-            self.pred_mean = x.mean(axis=1)
-            dev = x - self.pred_mean[:, None, :]
-            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+        self._cloud_moments(x)
         if self.feedback == "state+cov":
             s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
         else:
@@ -766,13 +800,7 @@ class _FusionCentre:
         self.sent[:, t - 1] = nu * nu >= self.eta * s
         return s
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition, observe: see _FeedbackModel)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         s = None
         if self.censor and self.feedback != "none":
@@ -813,14 +841,6 @@ class _FusionCentre:
                                        self.likelihood)
         return out
 
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        if self.sc.feedback_moments == "analytic":
-            F, Q = self.sc.F, self.sc.Q
-            self.pred_mean = mean @ F.T
-            if cov is not None:
-                pc = F @ cov @ F.T + Q
-                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
-
 
 def _truncated_normal(u, lo, hi):
     """Inverse-cdf draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (``u ~ U[0, 1)``).
@@ -843,7 +863,32 @@ def _truncated_normal(u, lo, hi):
     return np.where(flip, -zz, zz)
 
 
-class _ExactFusionCentre:
+class _ExactModel:
+    """What the exact no-feedback filters share: a particle is ``(x_t, xhat^1_{t|t-1}, ...,
+    xhat^N_{t|t-1})`` (``self.dim`` components, the state's first two), and a step where no
+    particle of a trial is consistent with who sent is relaxed and recorded in
+    ``self.relaxed (n, T)``."""
+
+    needs_cov = False
+
+    def initial(self, rng, n, P):
+        out = np.empty((n, P, self.dim))
+        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
+        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
+        return out
+
+    def _consistent(self, full: np.ndarray, ok: np.ndarray, k: int) -> np.ndarray:
+        """The log weights ``full (n, P)`` where ``ok`` (the particle explains who sent), ``-inf``
+        elsewhere; a trial with no such particle keeps ``full`` (the constraint relaxed)."""
+        w = np.where(ok, full, -np.inf)
+        dead = ~ok.any(axis=1)
+        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
+            w[dead] = full[dead]
+            self.relaxed[dead, k] = True
+        return w
+
+
+class _ExactFusionCentre(_ExactModel):
     """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
 
     Given a particle, a sensor's decision is deterministic in its measurement, so the weight is
@@ -857,8 +902,6 @@ class _ExactFusionCentre:
     few per thousand trial-steps with 250 particles), that step uses the weights without those
     indicators and is counted in ``relaxed`` (reported as ``CensoringResult.collapsed``).
     """
-
-    needs_cov = False
 
     def __init__(self, sc: LinearScenario, eta: float, z: np.ndarray, sent: np.ndarray):
         self.sc, self.eta, self.z, self.sent = sc, eta, z, sent
@@ -877,12 +920,6 @@ class _ExactFusionCentre:
         self.G = np.zeros((self.local["gain"].shape[0], N, 2 * N))
         for i in range(N):
             self.G[:, i, 2 * i:2 * i + 2] = self.local["gain"][:, i] @ sc.F.T
-
-    def initial(self, rng, n, P):
-        out = np.empty((n, P, self.dim))
-        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
-        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
-        return out
 
     def transition(self, rng, t, xa):
         n, P, _ = xa.shape
@@ -919,12 +956,7 @@ class _ExactFusionCentre:
                                            np.broadcast_to(self.a[k] / self.sd, hx.shape)[silent])
         full = out.sum(axis=-1)
         ok = (~sent | (np.abs(z - hxh) >= self.a[k])).all(axis=-1)  # (n, P)
-        w = np.where(ok, full, -np.inf)
-        dead = ~ok.any(axis=1)
-        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
-            w[dead] = full[dead]
-            self.relaxed[dead, k] = True
-        return w
+        return self._consistent(full, ok, k)
 
     def observe(self, t, mean, cov):
         pass

@@ -496,7 +496,7 @@ def _silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _FusionCentre:
+class _FusionCentre(censoring._PriorModel):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials; it also plays the sensors (with feedback their decisions at step ``t``
     depend on the FC's broadcast after step ``t - 1``)."""
@@ -553,13 +553,7 @@ class _FusionCentre:
         self.s[:, k] = s
         self.hh = np.sqrt(self.eta * s) / self.sd  # half-width of the silent interval / sd
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition: see censoring._PriorModel)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         k = t - 1
         if self.live:

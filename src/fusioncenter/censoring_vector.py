@@ -942,7 +942,7 @@ def _whitening(R):
     return np.linalg.inv(L), 2.0 * float(np.log(np.diag(L)).sum())
 
 
-class _VectorFC:
+class _VectorFC(cs._FeedbackModel):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials and every scheme except the exact no-feedback filter. It also plays the
     sensors: with feedback their decisions at step ``t`` depend on the FC's broadcast."""
@@ -959,9 +959,7 @@ class _VectorFC:
         self.H, self.R = sc.Hs, sc.Rs
         self.groups = sc.sensor_groups()
         self.local = sc.local_filters()
-        dyn = sc.dynamics
-        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
-        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        self._first_prediction(n)
         self.censor = scheme in ("cfomd", "cfwmd")
         self.fb = self.censor and feedback != "none"
         self.needs_cov = self.fb and feedback == "state+cov" and sc.feedback_moments == "analytic"
@@ -984,10 +982,7 @@ class _VectorFC:
 
     # --- sensors
     def _feedback_decisions(self, k: int, x: np.ndarray):
-        if self.sc.feedback_moments == "particles":
-            self.pred_mean = x.mean(axis=1)
-            dev = x - self.pred_mean[:, None, :]
-            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+        self._cloud_moments(x)
         nu = self.z[:, k] - np.einsum("nk,imk->nim", self.pred_mean, self.H)
         if self.feedback == "state+cov":
             S = np.einsum("imk,nkl,ijl->nimj", self.H, self.pred_cov, self.H) + self.R
@@ -999,13 +994,7 @@ class _VectorFC:
         self.sent[:, k] = nis >= self.eta
         return S
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition, observe: see censoring._FeedbackModel)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         k = t - 1
         S = self._feedback_decisions(k, x) if self.fb else None
@@ -1045,14 +1034,6 @@ class _VectorFC:
             val = _eval_silent(b, a, probability=self.probability, rng=self.rng_q, n_q=self.n_q)
             out[rows] += n_sil[rows, None] * val
         return out
-
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        if self.sc.feedback_moments == "analytic":
-            F, Q = self.sc.F, self.sc.Q
-            self.pred_mean = mean @ F.T
-            if cov is not None:
-                pc = F @ cov @ F.T + Q
-                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
 
 
 def _truncated_std_normal(rng, lo, hi):
@@ -1123,7 +1104,7 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
     return out, int(todo.size)
 
 
-class _VectorExactFC:
+class _VectorExactFC(cs._ExactModel):
     """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
 
     Given a particle, a sensor's decision is a deterministic function of its measurement, so the
@@ -1135,8 +1116,6 @@ class _VectorExactFC:
     conditional law). As in the scalar library, a step where no particle of a trial is compatible
     with who sent is relaxed (the indicators dropped) and counted.
     """
-
-    needs_cov = False
 
     def __init__(self, sc: VectorScenario, eta: float, z: np.ndarray, sent: np.ndarray,
                  probability: str, n_q: int, rng_q):
@@ -1154,12 +1133,6 @@ class _VectorExactFC:
         # u -> nu: nu = A_L^{-1} u with A_L = V^T L^{-1} (per step and sensor)
         AL, _ = _canonical_map(self.local["S"], np.broadcast_to(self.R, self.local["S"].shape))
         self.ALinv = np.linalg.inv(AL)
-
-    def initial(self, rng, n, P):
-        out = np.empty((n, P, self.dim))
-        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
-        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
-        return out
 
     def transition(self, rng, t, xa):
         out = np.empty_like(xa)
@@ -1206,12 +1179,7 @@ class _VectorExactFC:
                 b = (x[sil] - xh[sil]) @ self.local["A"][k, i].T
                 full[sil] += _eval_silent(b, a[i], probability=self.probability, rng=self.rng_q,
                                           n_q=self.n_q)
-        w = np.where(ok, full, -np.inf)
-        dead = ~ok.any(axis=1)
-        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
-            w[dead] = full[dead]
-            self.relaxed[dead, k] = True
-        return w
+        return self._consistent(full, ok, k)
 
     def observe(self, t, mean, cov):
         pass
