@@ -4,6 +4,7 @@
 * ``finite(name, value) -> ndarray``: a float array with finite entries.
 * ``positive(name, value, what="a variance") -> ndarray``: finite and ``> 0``.
 * ``nonneg(name, value, what=None) -> ndarray``: finite and ``>= 0``.
+* ``one_of(name, value, options)``: ``value`` must be one of ``options``.
 
 ``what`` is the reason stated in the message, e.g. ``"x must be positive (a variance), got 0"``.
 """
@@ -12,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["posint", "finite", "positive", "nonneg"]
+__all__ = ["posint", "finite", "positive", "nonneg", "one_of"]
 
 
 def posint(name: str, value) -> int:
@@ -42,3 +43,8 @@ def nonneg(name: str, value, what: str | None = None) -> np.ndarray:
         raise ValueError(f"{name} must be non-negative{why}, got {value!r}")
     return arr
 
+
+
+def one_of(name: str, value, options) -> None:
+    if value not in options:
+        raise ValueError(f"{name} must be one of {options}, got {value!r}")

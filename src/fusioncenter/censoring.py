@@ -72,6 +72,7 @@ from scipy import special
 from fusioncenter import montecarlo, particle
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
+from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
 
@@ -1598,6 +1599,34 @@ def paired_difference(a: CensoringResult, b: CensoringResult,
 
 
 # ----------------------------------------------------------------------------- run
+def _check_scheme(scheme: str, feedback: str) -> None:
+    _one_of("scheme", scheme, SCHEMES)
+    _one_of("feedback", feedback, FEEDBACK)
+
+
+def _check_resampling(scenario, ess_threshold: float) -> None:
+    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
+        raise ValueError("feedback_moments='particles' needs resampling at every step "
+                         "(ess_threshold=1.0)")
+
+
+def _run_chunks(chunk, scenario, scheme: str, feedback: str, likelihood: str, *, l, eta: float,
+                n_particles: int, ess_threshold: float, n_trials: int, seed: int,
+                chunk_size: int | None, executor, progress: bool, block_size: int,
+                chunk_kwargs: dict) -> CensoringResult:
+    """The trials of a ``run`` (arguments checked): ``chunk`` (the module's ``_chunk``, given
+    also ``chunk_kwargs``) through :func:`fusioncenter.montecarlo.simulate`, as a
+    :class:`CensoringResult`."""
+    fn = functools.partial(chunk, scenario=scenario, scheme=scheme, feedback=feedback, eta=eta,
+                           l=float(l), n_particles=n_particles,
+                           ess_threshold=float(ess_threshold), **chunk_kwargs)
+    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
+                             progress=progress, block_size=block_size)
+    return CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
+                           likelihood=likelihood, l=float(l), eta=eta, n_particles=n_particles,
+                           mc=mc)
+
+
 def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: int,
         feedback: str = "state", likelihood: str = "corrected", ess_threshold: float = 1.0,
         chunk_size: int | None = None, executor=None, progress: bool = False,
@@ -1644,26 +1673,16 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     if not isinstance(scenario, LinearScenario):
         raise ValueError("scenario must be a LinearScenario, VectorScenario or "
                          "NonlinearScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
-    if likelihood not in LIKELIHOODS:
-        raise ValueError(f"likelihood must be one of {LIKELIHOODS}, got {likelihood!r}")
+    _check_scheme(scheme, feedback)
+    _one_of("likelihood", likelihood, LIKELIHOODS)
     eta = threshold(l, scenario.N)
     n_particles = _posint("n_particles", n_particles)
     if scheme == "cfwmd" and feedback == "none" and likelihood == "corrected" and scenario.N > 2:
         raise ValueError(f"likelihood='corrected' without feedback is implemented for N <= 2, "
                          f"got N = {scenario.N} (use likelihood='printed')")
-    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
-        raise ValueError("feedback_moments='particles' needs resampling at every step "
-                         "(ess_threshold=1.0)")
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, eta=eta, l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold))
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, l=float(l), eta=eta, n_particles=n_particles,
-                           mc=mc)
+    _check_resampling(scenario, ess_threshold)
+    return _run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                       n_particles=n_particles, ess_threshold=ess_threshold, n_trials=n_trials,
+                       seed=seed, chunk_size=chunk_size, executor=executor, progress=progress,
+                       block_size=block_size, chunk_kwargs={"likelihood": likelihood})
 

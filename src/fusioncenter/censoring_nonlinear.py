@@ -50,7 +50,6 @@ Entry points (signature, one line each):
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -58,6 +57,7 @@ import numpy as np
 from scipy import special
 
 from fusioncenter import censoring, montecarlo, particle
+from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 
 __all__ = [
@@ -666,23 +666,16 @@ def run(scenario: NonlinearScenario, scheme: str, *, l, n_trials: int, n_particl
     """
     if not isinstance(scenario, NonlinearScenario):
         raise ValueError("scenario must be a NonlinearScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
+    censoring._check_scheme(scheme, feedback)
     if scheme == "cfwmd" and feedback == "none":
         raise ValueError("feedback='none' is not available for scheme='cfwmd': without feedback "
                          "the paper gives no full likelihood for the nonlinear system (Remark 4 "
                          "(III)); use feedback='state' or 'state+cov'")
-    if likelihood not in censoring.LIKELIHOODS:
-        raise ValueError(f"likelihood must be one of {censoring.LIKELIHOODS}, got {likelihood!r}")
+    _one_of("likelihood", likelihood, censoring.LIKELIHOODS)
     eta = censoring.threshold(l, scenario.N)
     n_particles = _posint("n_particles", n_particles)
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback, eta=eta,
-                           l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold))
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return censoring.CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                                     likelihood=likelihood, l=float(l), eta=eta,
-                                     n_particles=n_particles, mc=mc)
+    return censoring._run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                                 n_particles=n_particles, ess_threshold=ess_threshold,
+                                 n_trials=n_trials, seed=seed, chunk_size=chunk_size,
+                                 executor=executor, progress=progress, block_size=block_size,
+                                 chunk_kwargs={})

@@ -75,6 +75,7 @@ from scipy import special
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo, particle
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 
 __all__ = [
@@ -1507,13 +1508,7 @@ def _chunk(rng: np.random.Generator, n: int, *, scenario: VectorScenario, scheme
     model = fc
     if scheme == "cfwmd" and feedback == "none" and likelihood == "exact":
         model = _VectorExactFC(scenario, eta, z, fc.sent, probability, n_q, rng_q)
-    res = particle.run_filter(model, rng_pf, n, n_particles, scenario.T,
-                              ess_threshold=ess_threshold)
-    sq = (res.mean[..., :2] - x[:, 1:]) ** 2
-    collapsed = res.collapsed | getattr(model, "relaxed", False)
-    return np.concatenate([sq, fc.sent.sum(axis=-1, keepdims=True).astype(float),
-                           res.ess[..., None] / n_particles,
-                           collapsed[..., None].astype(float)], axis=-1)
+    return cs._reference_output(model, fc, rng_pf, n, n_particles, ess_threshold, x)
 
 
 # ----------------------------------------------------------------------------- run
@@ -1547,32 +1542,23 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
     """
     if not isinstance(scenario, VectorScenario):
         raise ValueError("scenario must be a VectorScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
+    cs._check_scheme(scheme, feedback)
     if likelihood not in (*LIKELIHOODS, "corrected"):
         raise ValueError(f"likelihood must be one of {LIKELIHOODS}, got {likelihood!r}")
     if likelihood == "corrected" and scheme == "cfwmd" and feedback == "none":
         raise ValueError("likelihood='corrected' is not implemented for vector observations (it "
                          "is an integral over every sensor's local prediction per particle): "
                          f"use one of {LIKELIHOODS}")
-    if probability not in PROBABILITIES:
-        raise ValueError(f"probability must be one of {PROBABILITIES}, got {probability!r}")
+    _one_of("probability", probability, PROBABILITIES)
     n_q = _posint("n_q", n_q)
     if engine not in ("fused", "reference"):
         raise ValueError(f"engine must be 'fused' or 'reference', got {engine!r}")
     eta = cs.threshold(l, scenario.N, dof=scenario.m)
     n_particles = _posint("n_particles", n_particles)
-    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
-        raise ValueError("feedback_moments='particles' needs resampling at every step "
-                         "(ess_threshold=1.0)")
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, eta=eta, l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold), probability=probability, n_q=n_q,
-                           engine=engine)
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return cs.CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                              likelihood=likelihood, l=float(l), eta=eta,
-                              n_particles=n_particles, mc=mc)
+    cs._check_resampling(scenario, ess_threshold)
+    return cs._run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                          n_particles=n_particles, ess_threshold=ess_threshold,
+                          n_trials=n_trials, seed=seed, chunk_size=chunk_size, executor=executor,
+                          progress=progress, block_size=block_size,
+                          chunk_kwargs={"likelihood": likelihood, "probability": probability,
+                                        "n_q": n_q, "engine": engine})
