@@ -718,9 +718,10 @@ class LinearScenario(_Scenario):
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _PriorModel:
-    """The initial law and transition of a :class:`fusioncenter.particle.FilterModel` whose
-    particles are the target's state: those of the scenario ``self.sc``."""
+class _ReferenceFC:
+    """What the reference FC models (:class:`fusioncenter.particle.FilterModel`, particles of
+    the target's state) share: the initial law and transition of the scenario ``self.sc``, and
+    the sensors' decisions that do not depend on the FC's broadcast."""
 
     def initial(self, rng, n, P):
         return self.sc.dynamics.initial(rng, n, P)
@@ -728,8 +729,18 @@ class _PriorModel:
     def transition(self, rng, t, x):
         return self.sc.dynamics.transition(rng, t, x)
 
+    def _fixed_decisions(self, feedback: str, l: float, sel_u: np.ndarray) -> None:
+        """Fill ``self.sent`` where the decisions are known in advance: censoring without
+        feedback (``self._local_decisions()``), random selection, all-send."""
+        if self.censor and feedback == "none":
+            self._local_decisions()
+        elif self.scheme == "random":
+            self.sent[:] = sel_u < l / self.N
+        elif self.scheme == "all-send":
+            self.sent[:] = True
 
-class _FeedbackModel(_PriorModel):
+
+class _FeedbackModel(_ReferenceFC):
     """The FC's feedback of a linear target (``self.sc.feedback_moments``): the predicted mean
     ``pred_mean (n, d)`` and covariance ``pred_cov (n, d, d)`` it broadcasts at every step."""
 
@@ -778,12 +789,7 @@ class _FusionCentre(_FeedbackModel):
         self.censor = scheme in ("cfomd", "cfwmd")
         self.needs_cov = feedback == "state+cov" and sc.feedback_moments == "analytic" \
             and self.censor
-        if self.censor and feedback == "none":
-            self._local_decisions()
-        elif scheme == "random":
-            self.sent[:] = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent[:] = True
+        self._fixed_decisions(feedback, l, sel_u)
 
     # --- sensors
     def _local_decisions(self) -> None:

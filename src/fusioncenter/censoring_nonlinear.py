@@ -496,7 +496,7 @@ def _silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _FusionCentre(censoring._PriorModel):
+class _FusionCentre(censoring._ReferenceFC):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials; it also plays the sensors (with feedback their decisions at step ``t``
     depend on the FC's broadcast after step ``t - 1``)."""
@@ -523,12 +523,7 @@ class _FusionCentre(censoring._PriorModel):
         self.P_loc = np.broadcast_to(dyn.P0, (n, N, 4, 4)).copy()  # P^i_{t-1|t-1}
         self.hx_pred = None
         self.hh = None
-        if self.censor and feedback == "none":
-            self._local_decisions()
-        elif scheme == "random":
-            self.sent[:] = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent[:] = True
+        self._fixed_decisions(feedback, l, sel_u)
 
     # --- sensors
     def _local_decisions(self) -> None:
@@ -553,7 +548,7 @@ class _FusionCentre(censoring._PriorModel):
         self.s[:, k] = s
         self.hh = np.sqrt(self.eta * s) / self.sd  # half-width of the silent interval / sd
 
-    # --- FilterModel (initial, transition: see censoring._PriorModel)
+    # --- FilterModel (initial, transition: see censoring._ReferenceFC)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         k = t - 1
         if self.live:
