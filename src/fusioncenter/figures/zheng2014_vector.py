@@ -21,9 +21,9 @@ Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import functools
 import multiprocessing
-import os
 
 import numpy as np
 
@@ -38,7 +38,9 @@ from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (
     _by_l_data,
     _by_l_panels,
     _curves,
+    _one_blas_thread_env,
     _pairs,
+    _printed_max_abs_diff,
     _rmse_panels,
     _schemes_data,
     _stack,
@@ -109,30 +111,20 @@ class _Pool:
     """Two worker processes (spawned, so that ``OPENBLAS_NUM_THREADS=1`` takes effect in them)
     for the paper profile; ``pool = None`` (serial) for the fast profile."""
 
-    _ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-
     def __init__(self, profile: str):
         self.workers = by_profile(profile, **WORKERS)
         self.pool = None
-        self.saved: dict = {}
+        self._stack = contextlib.ExitStack()
 
     def __enter__(self):
         if self.workers:
-            self.saved = {k: os.environ.get(k) for k in self._ENV}
-            for k in self._ENV:
-                os.environ[k] = "1"
-            self.pool = concurrent.futures.ProcessPoolExecutor(
-                self.workers, mp_context=multiprocessing.get_context("spawn"))
+            self._stack.enter_context(_one_blas_thread_env())
+            self.pool = self._stack.enter_context(concurrent.futures.ProcessPoolExecutor(
+                self.workers, mp_context=multiprocessing.get_context("spawn")))
         return self
 
     def __exit__(self, *exc):
-        if self.pool is not None:
-            self.pool.shutdown()
-            for k, v in self.saved.items():
-                if v is None:
-                    os.environ.pop(k, None)
-                else:
-                    os.environ[k] = v
+        self._stack.close()  # shuts the pool down, then restores the variables
         return False
 
 
@@ -350,8 +342,7 @@ def compute_fig6(profile: str, seed: int) -> dict:
     runs = _fig6_runs(profile, seed)
     by = dict(zip(FIG6_CURVES, runs, strict=True))
     cur = [_curves(r) for r in runs]
-    printed_diff = float(np.max(np.abs(by["printed"].mc.samples[..., :2]
-                                       - by["cfomd"].mc.samples[..., :2])))
+    printed_diff = _printed_max_abs_diff(by)
     pairs = [("all-send", "cfomd"), ("cfomd", "random"), ("exact", "cfomd")]
     dp, sp, dv, sv = _pairs(by, pairs)
     sc = runs[0].scenario
