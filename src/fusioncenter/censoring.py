@@ -507,6 +507,28 @@ _SCHEME_CHOICES = {
 }
 
 
+def _local_error_recursion(sc, update) -> None:
+    """The covariance ``Sigma`` of the joint prediction errors ``(e^1, ..., e^N)`` of the
+    sensors' own Kalman filters (eqs. (21)-(23)) of a linear scenario ``sc``, step by step.
+
+    From ``Sigma_{0|0} = 1 1^T (x) P0``, for ``t = 0..T-1``: ``Sigma_{t+1|t} = (I (x) F)
+    Sigma_{t|t} (I (x) F)^T + 1 1^T (x) Q``; ``update(t, Sigma_{t+1|t})`` records what it needs
+    and returns ``(A, W)`` (``2N x 2N``, block diagonal: ``I - w^i h_i^T`` and the gain times the
+    noise covariance times the gain transposed), and ``Sigma_{t+1|t+1} = A Sigma A^T + W``. Both
+    covariances are symmetrized.
+    """
+    N = sc.N
+    ones = np.ones((N, N))
+    Sig = np.kron(ones, sc.dynamics.P0)
+    IF = np.kron(np.eye(N), sc.F)
+    for t in range(sc.T):
+        Sig = IF @ Sig @ IF.T + np.kron(ones, sc.Q)
+        Sig = 0.5 * (Sig + Sig.T)
+        A, W = update(t, Sig)
+        Sig = A @ Sig @ A.T + W
+        Sig = 0.5 * (Sig + Sig.T)
+
+
 class _Scenario:
     """What the scenarios (:class:`LinearScenario`, ``censoring_vector.VectorScenario``,
     ``censoring_nonlinear.NonlinearScenario``: frozen dataclasses keeping their
@@ -670,19 +692,14 @@ class LinearScenario(_Scenario):
         ``P_pred (T, N, 2, 2)``: ``P^i_{t|t-1}``; ``gain (T, N, 2)``: ``w_t^i``;
         ``s (T, N)``: ``s_t^i``; ``C (T, N, N)``: covariance of the local prediction errors in
         measurement space, ``h_i^T Sigma^{ij}_{t|t-1} h_j`` (eqs. (21)-(23); diagonal
-        ``s_t^i - r_i``). Computed on the joint error vector ``(e^1, ..., e^N)``:
-        ``Sigma_{t|t} = A Sigma_{t|t-1} A^T + blockdiag(w r w^T)`` with
-        ``A = blockdiag(I - w^i h_i^T)``, then ``Sigma_{t+1|t} = (I (x) F) Sigma_{t|t}
-        (I (x) F)^T + 1 1^T (x) Q``, from ``Sigma_{0|0} = 1 1^T (x) P0``.
+        ``s_t^i - r_i``). Computed on the joint error vector ``(e^1, ..., e^N)``
+        (:func:`_local_error_recursion`): ``Sigma_{t|t} = A Sigma_{t|t-1} A^T +
+        blockdiag(w r w^T)`` with ``A = blockdiag(I - w^i h_i^T)``.
         """
         if "local" in self._cache:
             return self._cache["local"]
-        N, T, F, Q = self.N, self.T, self.F, self.Q
+        N, T = self.N, self.T
         H, r = self.H, self.rvec
-        P0 = self.dynamics.P0
-        ones = np.ones((N, N))
-        Sig = np.kron(ones, P0)
-        IF = np.kron(np.eye(N), F)
         P_pred = np.empty((T, N, 2, 2))
         gain = np.empty((T, N, 2))
         s = np.empty((T, N))
@@ -690,9 +707,8 @@ class LinearScenario(_Scenario):
         Hblk = np.zeros((N, 2 * N))
         for i in range(N):
             Hblk[i, 2 * i:2 * i + 2] = H[i]
-        for t in range(T):
-            Sig = IF @ Sig @ IF.T + np.kron(ones, Q)
-            Sig = 0.5 * (Sig + Sig.T)
+
+        def update(t, Sig):
             A = np.zeros((2 * N, 2 * N))
             W = np.zeros((2 * N, 2 * N))
             for i in range(N):
@@ -704,8 +720,9 @@ class LinearScenario(_Scenario):
                 A[2 * i:2 * i + 2, 2 * i:2 * i + 2] = np.eye(2) - np.outer(w, H[i])
                 W[2 * i:2 * i + 2, 2 * i:2 * i + 2] = r[i] * np.outer(w, w)
             Cm[t] = Hblk @ Sig @ Hblk.T
-            Sig = A @ Sig @ A.T + W
-            Sig = 0.5 * (Sig + Sig.T)
+            return A, W
+
+        _local_error_recursion(self, update)
         out = {"P_pred": P_pred, "gain": gain, "s": s, "C": Cm}
         self._cache["local"] = out
         return out

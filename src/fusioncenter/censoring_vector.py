@@ -784,19 +784,14 @@ class VectorScenario(cs._Scenario):
         """
         if "local" in self._cache:
             return self._cache["local"]
-        N, T, F, Q, m = self.N, self.T, self.F, self.Q, self.m
+        N, T, m = self.N, self.T, self.m
         H, R = self.Hs, self.Rs
-        P0 = self.dynamics.P0
-        ones = np.ones((N, N))
-        Sig = np.kron(ones, P0)
-        IF = np.kron(np.eye(N), F)
         P_pred = np.empty((T, N, 2, 2))
         gain = np.empty((T, N, 2, m))
         S = np.empty((T, N, m, m))
         Sigma = np.empty((T, 2 * N, 2 * N))
-        for t in range(T):
-            Sig = IF @ Sig @ IF.T + np.kron(ones, Q)
-            Sig = 0.5 * (Sig + Sig.T)
+
+        def update(t, Sig):  # the joint recursion: cs._local_error_recursion
             Sigma[t] = Sig
             A = np.zeros((2 * N, 2 * N))
             Wn = np.zeros((2 * N, 2 * N))
@@ -810,8 +805,9 @@ class VectorScenario(cs._Scenario):
                 gain[t, i] = W
                 A[blk, blk] = np.eye(2) - W @ H[i]
                 Wn[blk, blk] = W @ R[i] @ W.T
-            Sig = A @ Sig @ A.T + Wn
-            Sig = 0.5 * (Sig + Sig.T)
+            return A, Wn
+
+        cs._local_error_recursion(self, update)
         Acan, asc = _canonical_map(S, np.broadcast_to(R, S.shape))
         out = {"P_pred": P_pred, "gain": gain, "S": S, "Sigma": Sigma,
                "A": Acan @ H, "a_scale": asc}
