@@ -1034,20 +1034,10 @@ class _VectorFC(cs._FeedbackModel):
 
 
 def _truncated_std_normal(rng, lo, hi):
-    """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (inverse cdf; an interval in the
-    upper tail is reflected into the lower tail, where ``Phi`` keeps its relative accuracy)."""
-    flip = lo > 0
-    a = np.where(flip, -hi, lo)
-    b = np.where(flip, -lo, hi)
-    pa, pb = special.ndtr(a), special.ndtr(b)
-    u = rng.random(np.shape(a))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        zz = special.ndtri(pa + u * (pb - pa))
-        far = ~(pb > 1e-300) | ~np.isfinite(zz)
-        if far.any():  # beyond ~38 sd: the exponential tail next to the bound nearest the mean
-            zz[far] = b[far] + np.log1p(-u[far]) / np.abs(b[far])
-    zz = np.clip(zz, a, b)
-    return np.where(flip, -zz, zz)
+    """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
+    :func:`fusioncenter.censoring._truncated_normal` at uniforms drawn from ``rng``."""
+    return cs._truncated_normal(rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi))),
+                                lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):
