@@ -464,6 +464,11 @@ def _as_tuple(value):
     return float(arr) if arr.ndim == 0 else tuple(np.asarray(arr).tolist())
 
 
+def _nested(arr: np.ndarray):
+    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
+    return tuple(_nested(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
+
+
 def _wna(dt: float) -> tuple[np.ndarray, np.ndarray]:
     """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
     ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
@@ -625,11 +630,10 @@ class LinearScenario(_Scenario):
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "r", _as_tuple(r))
-        object.__setattr__(self, "h", _as_tuple(h) if h.ndim == 1
-                           else tuple(tuple(row) for row in h.tolist()))
+        object.__setattr__(self, "h", _as_tuple(h) if h.ndim == 1 else _nested(h))
         object.__setattr__(self, "x0", _as_tuple(x0))
         if self.P0 is not None:
-            object.__setattr__(self, "P0", tuple(tuple(row) for row in P0.tolist()))
+            object.__setattr__(self, "P0", _nested(P0))
         self._cache["dynamics"] = dyn
 
     # --- model pieces (dynamics, d, F, Q: see _Scenario)

@@ -110,10 +110,6 @@ def grid_positions(per_side: int = 3, side: float = 20.0, *, layout: str = "cent
     return np.stack([gx.ravel(), gy.ravel()], axis=-1)
 
 
-def _tuple2(a) -> tuple:
-    return tuple(tuple(float(v) for v in row) for row in np.asarray(a, dtype=float))
-
-
 # ----------------------------------------------------------------------------- the scenario
 @dataclass(frozen=True)
 class NonlinearScenario(censoring._Scenario):
@@ -190,12 +186,13 @@ class NonlinearScenario(censoring._Scenario):
         F1, q = censoring._wna(self.dt)
         dyn = censoring._dynamics(np.kron(np.eye(2), F1), self.sigma2 * np.kron(np.eye(2), q),
                                   x0, P0m)
-        object.__setattr__(self, "sensors", _tuple2(sensors))
+        object.__setattr__(self, "sensors", censoring._nested(sensors))
         object.__setattr__(self, "region", region)
         object.__setattr__(self, "T", T)
         object.__setattr__(self, "r", float(r) if r.ndim == 0 else tuple(r.tolist()))
         object.__setattr__(self, "x0", tuple(x0.tolist()))
-        object.__setattr__(self, "P0", tuple(P0.tolist()) if P0.ndim == 1 else _tuple2(P0))
+        object.__setattr__(self, "P0",
+                           tuple(P0.tolist()) if P0.ndim == 1 else censoring._nested(P0))
         self._cache["dynamics"] = dyn
         self._cache["pos"] = sensors
         self._cache["N"] = N

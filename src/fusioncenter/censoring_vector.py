@@ -632,10 +632,6 @@ def log_likelihood_no_feedback_printed(sent, z, Hx, R, log_all_silent):
 
 
 # ----------------------------------------------------------------------------- the scenario
-def _nested(arr: np.ndarray):
-    return tuple(_nested(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
-
-
 @dataclass(frozen=True)
 class VectorScenario(cs._Scenario):
     """The tracking model of zheng2014 Section VII.B (vector observations).
@@ -705,11 +701,11 @@ class VectorScenario(cs._Scenario):
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "sigma2", float(sigma2))
-        object.__setattr__(self, "H", _nested(H))
-        object.__setattr__(self, "R", _nested(R))
-        object.__setattr__(self, "x0", _nested(x0))
+        object.__setattr__(self, "H", cs._nested(H))
+        object.__setattr__(self, "R", cs._nested(R))
+        object.__setattr__(self, "x0", cs._nested(x0))
         if self.P0 is not None:
-            object.__setattr__(self, "P0", _nested(P0))
+            object.__setattr__(self, "P0", cs._nested(P0))
         self._cache["dynamics"] = dyn
 
     # --- model pieces (dynamics, d, F, Q: see censoring._Scenario)
