@@ -226,17 +226,28 @@ def _log_canon(b1, b2, a1, a2, *, K: int = 64, zooms: int = 2, drop: float = 40.
     return out.reshape(shape)
 
 
-def _canonical_args(mean, cov, eta):
-    eta = _eta(eta)
-    mean = _finite("mean", mean)
-    if mean.ndim < 1 or mean.shape[-1] not in (1, 2):
-        raise ValueError(f"mean must have its last axis of length m in (1, 2), got {mean.shape}")
-    m = mean.shape[-1]
-    cov = _pd("cov", cov, m)
-    A, asc = _canonical_map(np.broadcast_to(np.eye(m), cov.shape), cov)
+def _log_canonical(b, a):
+    """``log P(sum_j u_j^2 / a_j^2 < 1)`` for ``u ~ N(b, I)``: ``b``, ``a`` ``(..., m)``, ``m``
+    in {1, 2} (accurate: :func:`_log_inside_1d`, :func:`_log_canon`)."""
+    if b.shape[-1] == 1:
+        return _log_inside_1d(b[..., 0], a[..., 0])
+    return _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
+
+
+def _means(name: str, value) -> np.ndarray:
+    """Mean vectors ``(..., m)``, ``m`` in {1, 2}."""
+    arr = _finite(name, value)
+    if arr.ndim < 1 or arr.shape[-1] not in (1, 2):
+        raise ValueError(f"{name} must have its last axis of length m in (1, 2), got {arr.shape}")
+    return arr
+
+
+def _log_in_ellipse(A, a_scale, mean, eta: float):
+    """:func:`_log_canonical` at ``b = A mean``, semi-axes ``sqrt(eta) a_scale`` (a canonical map
+    of :func:`_canonical_map`); a scalar for a single point."""
     b = (A @ mean[..., None])[..., 0]
-    a = math.sqrt(eta) * asc
-    return b, a, m
+    out = _log_canonical(b, math.sqrt(eta) * a_scale)
+    return out[()] if out.ndim == 0 else out
 
 
 def log_censored_probability(mean, cov, eta):
@@ -249,12 +260,12 @@ def log_censored_probability(mean, cov, eta):
     quadrature of the module docstring: relative error ~1e-13 (checked against mpmath), finite
     however far the mean lies outside the disc. ``-inf`` if ``eta = 0``.
     """
-    b, a, m = _canonical_args(mean, cov, eta)
-    if m == 1:
-        out = _log_inside_1d(b[..., 0], a[..., 0])
-    else:
-        out = _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
-    return out[()] if out.ndim == 0 else out
+    eta = _eta(eta)
+    mean = _means("mean", mean)
+    m = mean.shape[-1]
+    cov = _pd("cov", cov, m)
+    A, asc = _canonical_map(np.broadcast_to(np.eye(m), cov.shape), cov)
+    return _log_in_ellipse(A, asc, mean, eta)
 
 
 def censored_probability(mean, cov, eta):
@@ -292,21 +303,13 @@ def log_silent_probability(mu, S, R, eta):
     ``q = S^{-1/2} nu ~ N(S^{-1/2} mu, S^{-1/2} R S^{-1/2})`` (eqs. (35)-(38)).
     """
     eta = _eta(eta)
-    mu = _finite("mu", mu)
-    if mu.ndim < 1 or mu.shape[-1] not in (1, 2):
-        raise ValueError(f"mu must have its last axis of length m in (1, 2), got {mu.shape}")
+    mu = _means("mu", mu)
     m = mu.shape[-1]
     S = _pd("S", S, m)
     R = _pd("R", R, m)
     S, R = np.broadcast_arrays(S, R)
     A, asc = _canonical_map(S, R)
-    b = (A @ mu[..., None])[..., 0]
-    a = math.sqrt(eta) * asc
-    if m == 1:
-        out = _log_inside_1d(b[..., 0], a[..., 0])
-    else:
-        out = _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
-    return out[()] if out.ndim == 0 else out
+    return _log_in_ellipse(A, asc, mu, eta)
 
 
 # ----------------------------------------------------------------------------- fast tables
@@ -556,10 +559,7 @@ def _eval_silent(b, a, *, probability: str = "table", rng=None, n_q: int = 0):
     n, P, m = b.shape
     per_trial = a.ndim == 2
     if probability == "quadrature":
-        aa = np.broadcast_to(a[:, None, :] if per_trial else a, b.shape)
-        if m == 1:
-            return _log_inside_1d(b[..., 0], aa[..., 0])
-        return _log_canon(b[..., 0], b[..., 1], aa[..., 0], aa[..., 1])
+        return _log_canonical(b, np.broadcast_to(a[:, None, :] if per_trial else a, b.shape))
     if probability == "sampled":
         aa = np.broadcast_to(a[:, None, :] if per_trial else a, b.shape)
         count = np.zeros((n, P))
