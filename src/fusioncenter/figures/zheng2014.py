@@ -202,6 +202,17 @@ def _stack(cur: list[dict], key: str) -> np.ndarray:
     return np.array([c[key] for c in cur])
 
 
+def _stacked(cur: list[dict], *, velocity_average: bool = True) -> dict:
+    """One row per run of ``cur`` (its :func:`_curves`): RMSE against time, time-averaged RMSE
+    (of the velocity too if ``velocity_average``), transmissions per step; with stderrs."""
+    out = {"rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
+           "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
+           "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe")}
+    if velocity_average:
+        out |= {"tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve")}
+    return out | {"transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre")}
+
+
 def _printed_max_abs_diff(by: dict) -> float:
     """Largest difference of the squared errors of CFwMD with the no-feedback likelihood as
     printed (``by["printed"]``) and of CFoMD (``by["cfomd"]``) on the same trials."""
@@ -253,11 +264,7 @@ def _schemes_data(runs, N: int, l: float) -> dict:
     dp, sp, dv, sv = _pairs(dict(zip(SCHEMES, runs, strict=True)), pairs)
     return {
         "time": runs[0].time.astype(float), "schemes": np.array(SCHEMES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
+        **_stacked(cur),
         "pairs": np.array(pairs), "pair_diff_position": dp, "pair_stderr_position": sp,
         "pair_diff_velocity": dv, "pair_stderr_velocity": sv,
         "collapsed": _stack(cur, "col"),
@@ -651,11 +658,7 @@ def compute_fig3(profile: str, seed: int) -> dict:
         pn.append(n)
     return {
         "time": runs[0].time.astype(float), "curves": np.array(FIG3_CURVES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
-        "collapsed": _stack(cur, "col"),
+        **_stacked(cur, velocity_average=False), "collapsed": _stack(cur, "col"),
         "n_trials": np.array([r.mc.n_trials for r in runs]),
         "printed_max_abs_diff": printed_diff,
         "pairs": np.array(pairs), "pair_diff": np.array(pd), "pair_stderr": np.array(ps),

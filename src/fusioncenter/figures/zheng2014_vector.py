@@ -44,6 +44,7 @@ from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (
     _rmse_panels,
     _schemes_data,
     _stack,
+    _stacked,
     _transmissions_data,
     _transmissions_plot,
     _z_claim_ordered,
@@ -349,11 +350,7 @@ def compute_fig6(profile: str, seed: int) -> dict:
     mass = np.array([cv.printed_mass(sc, FIG6["l"], t) for t in range(1, sc.T + 1)])
     return {
         "time": runs[0].time.astype(float), "curves": np.array(FIG6_CURVES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
+        **_stacked(cur),
         "collapsed": _stack(cur, "col"), "printed_max_abs_diff": printed_diff,
         "pairs": np.array(pairs), "pair_diff": dp, "pair_stderr": sp,
         "pair_diff_velocity": dv, "pair_stderr_velocity": sv, "printed_mass": mass,
