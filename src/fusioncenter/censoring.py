@@ -70,6 +70,11 @@ import scipy.stats
 from scipy import special
 
 from fusioncenter import _kernels, montecarlo, particle
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import nonneg as _nonneg
+from fusioncenter._validate import one_of as _one_of
+from fusioncenter._validate import posint as _posint
+from fusioncenter._validate import positive as _positive
 
 __all__ = [
     "SCHEMES",
@@ -104,34 +109,6 @@ LIKELIHOODS = ("corrected", "printed", "exact")
 _R2 = 1.0 / math.sqrt(2.0)
 _LOG_HALF = math.log(0.5)
 _LOG_2PI = math.log(2.0 * math.pi)
-
-
-# ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
-def _positive(name: str, value) -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr <= 0):
-        raise ValueError(f"{name} must be positive (a variance), got {value!r}")
-    return arr
-
-
-def _nonneg(name: str, value) -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr < 0):
-        raise ValueError(f"{name} must be non-negative, got {value!r}")
-    return arr
 
 
 # ----------------------------------------------------------------------------- threshold
@@ -487,8 +464,119 @@ def _as_tuple(value):
     return float(arr) if arr.ndim == 0 else tuple(np.asarray(arr).tolist())
 
 
+def _nested(arr: np.ndarray):
+    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
+    return tuple(_nested(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
+
+
+def _wna(dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
+    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
+    return (np.array([[1.0, dt], [0.0, 1.0]]),
+            np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
+
+
+def _dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
+    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``)."""
+    try:
+        return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
+    except ValueError as err:
+        raise ValueError(f"P0: {err}") from None
+
+
+def _check_x0_pair(value) -> np.ndarray:
+    x0 = _finite("x0", value)
+    if x0.shape != (2,):
+        raise ValueError(f"x0 must be a [position, velocity] pair, got {value!r}")
+    return x0
+
+
+def _check_feedback_moments(value) -> None:
+    if value not in ("analytic", "particles"):
+        raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
+
+
+def _time_axis_choice(T: int) -> str:
+    return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
+            "transmissions are reported for t = 1..T")
+
+
+#: The choices of :attr:`LinearScenario.choices` that every scenario shares (the schemes and the
+#: particle filter).
+_SCHEME_CHOICES = {
+    "random selection": "each sensor sends independently with probability l/N",
+    "all-send": "every sensor sends at every step (l is ignored)",
+    "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
+    "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
+                  "before resampling (A1.5)",
+}
+
+
+def _local_error_recursion(sc, update) -> None:
+    """The covariance ``Sigma`` of the joint prediction errors ``(e^1, ..., e^N)`` of the
+    sensors' own Kalman filters (eqs. (21)-(23)) of a linear scenario ``sc``, step by step.
+
+    From ``Sigma_{0|0} = 1 1^T (x) P0``, for ``t = 0..T-1``: ``Sigma_{t+1|t} = (I (x) F)
+    Sigma_{t|t} (I (x) F)^T + 1 1^T (x) Q``; ``update(t, Sigma_{t+1|t})`` records what it needs
+    and returns ``(A, W)`` (``2N x 2N``, block diagonal: ``I - w^i h_i^T`` and the gain times the
+    noise covariance times the gain transposed), and ``Sigma_{t+1|t+1} = A Sigma A^T + W``. Both
+    covariances are symmetrized.
+    """
+    N = sc.N
+    ones = np.ones((N, N))
+    Sig = np.kron(ones, sc.dynamics.P0)
+    IF = np.kron(np.eye(N), sc.F)
+    for t in range(sc.T):
+        Sig = IF @ Sig @ IF.T + np.kron(ones, sc.Q)
+        Sig = 0.5 * (Sig + Sig.T)
+        A, W = update(t, Sig)
+        Sig = A @ Sig @ A.T + W
+        Sig = 0.5 * (Sig + Sig.T)
+
+
+class _Scenario:
+    """What the scenarios (:class:`LinearScenario`, ``censoring_vector.VectorScenario``,
+    ``censoring_nonlinear.NonlinearScenario``: frozen dataclasses keeping their
+    :class:`fusioncenter.particle.LinearGaussianDynamics` in ``_cache["dynamics"]``) share: the
+    target's law, and the simulation of the true trajectories."""
+
+    position_index = (0,)
+    velocity_index = (1,)
+
+    @property
+    def dynamics(self) -> particle.LinearGaussianDynamics:
+        """Initial law and transition (for the PF and for simulating the truth)."""
+        return self._cache["dynamics"]
+
+    @property
+    def d(self) -> int:
+        """Dimension of the state."""
+        return self.dynamics.dim
+
+    @property
+    def F(self) -> np.ndarray:
+        return self.dynamics.F
+
+    @property
+    def Q(self) -> np.ndarray:
+        return self.dynamics.Q
+
+    def _truth(self, rng: np.random.Generator, n: int, *, draw_x0: bool = True) -> np.ndarray:
+        """True trajectories ``x (n, T+1, d)`` of ``n`` trials: draws ``x_0`` (else ``x_0`` is
+        the prior mean), then ``T`` transitions."""
+        dyn = self.dynamics
+        x = np.empty((n, self.T + 1, self.d))
+        if draw_x0:
+            x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
+        else:
+            x[:, 0] = dyn.m0
+        for t in range(1, self.T + 1):
+            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        return x
+
+
 @dataclass(frozen=True)
-class LinearScenario:
+class LinearScenario(_Scenario):
     """The linear tracking model of zheng2014 Section VII.A (scalar observations).
 
     ``x_k = [position, velocity]``, ``x_{k+1} = F x_k + u_k``, ``F = [[1, dt], [0, 1]]``,
@@ -530,49 +618,25 @@ class LinearScenario:
         if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
             raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "
                              f"got shape {r.shape}")
-        x0 = _finite("x0", self.x0)
-        if x0.shape != (2,):
-            raise ValueError(f"x0 must be a [position, velocity] pair, got {self.x0!r}")
+        x0 = _check_x0_pair(self.x0)
         h = _finite("h", self.h)
         if h.shape not in ((2,), (N, 2)) or np.any(np.all(h.reshape(-1, 2) == 0, axis=-1)):
             raise ValueError(f"h must be a non-zero vector (2,) or one per sensor ({N}, 2), "
                              f"got {self.h!r}")
-        if self.feedback_moments not in ("analytic", "particles"):
-            raise ValueError("feedback_moments must be 'analytic' or 'particles', "
-                             f"got {self.feedback_moments!r}")
+        _check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
-        dyn = particle.LinearGaussianDynamics(
-            F=np.array([[1.0, dt], [0.0, 1.0]]),
-            Q=sigma2 * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]),
-            m0=x0, P0=P0)  # validates P0
+        F, q = _wna(dt)
+        dyn = _dynamics(F, sigma2 * q, x0, P0)  # validates P0
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "r", _as_tuple(r))
-        object.__setattr__(self, "h", _as_tuple(h) if h.ndim == 1
-                           else tuple(tuple(row) for row in h.tolist()))
+        object.__setattr__(self, "h", _as_tuple(h) if h.ndim == 1 else _nested(h))
         object.__setattr__(self, "x0", _as_tuple(x0))
         if self.P0 is not None:
-            object.__setattr__(self, "P0", tuple(tuple(row) for row in P0.tolist()))
+            object.__setattr__(self, "P0", _nested(P0))
         self._cache["dynamics"] = dyn
 
-    # --- model pieces
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        """Initial law and transition (for the PF and for simulating the truth)."""
-        return self._cache["dynamics"]
-
-    @property
-    def d(self) -> int:
-        return 2
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
-
+    # --- model pieces (dynamics, d, F, Q: see _Scenario)
     @property
     def H(self) -> np.ndarray:
         """Measurement vectors, one row per sensor ``(N, 2)``."""
@@ -583,16 +647,12 @@ class LinearScenario:
         """Measurement-noise variances ``(N,)``."""
         return np.broadcast_to(np.asarray(self.r, dtype=float), (self.N,)).copy()
 
-    position_index = (0,)
-    velocity_index = (1,)
-
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
         P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
         return {
-            "time axis": f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T "
-                         f"(T = {self.T}); RMSE and transmissions are reported for t = 1..T",
+            "time axis": _time_axis_choice(self.T),
             "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0} (the paper: the "
                              "initial state 'is chosen to be [0 10]')",
             "PF prior": "particles at t = 0 drawn from N(x0, P0): all equal to x0 when P0 = 0",
@@ -615,11 +675,7 @@ class LinearScenario:
                 "particles: mean and covariance of the propagated particle cloud at step k"),
             "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
                          "(eq. (8))",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **_SCHEME_CHOICES,
             "no-feedback likelihood": "'corrected' (default) or 'printed' Proposition 3, both with "
                                       "the paper's law (21)-(23) for the local predictions, or "
                                       "'exact' (particles carry the local predictions)",
@@ -629,11 +685,7 @@ class LinearScenario:
         """Truth and measurements of ``n`` trials: ``x (n, T+1, 2)`` (``x[:, 0] = x_0``), ``z (n,
         T, N)`` (``z[:, t-1]`` measured at time ``t``). Draws ``x_0``, then ``T`` transitions,
         then all measurement noises."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 2))
-        x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n)
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
         z = x[:, 1:] @ self.H.T + noise
         return x, z
@@ -644,19 +696,14 @@ class LinearScenario:
         ``P_pred (T, N, 2, 2)``: ``P^i_{t|t-1}``; ``gain (T, N, 2)``: ``w_t^i``;
         ``s (T, N)``: ``s_t^i``; ``C (T, N, N)``: covariance of the local prediction errors in
         measurement space, ``h_i^T Sigma^{ij}_{t|t-1} h_j`` (eqs. (21)-(23); diagonal
-        ``s_t^i - r_i``). Computed on the joint error vector ``(e^1, ..., e^N)``:
-        ``Sigma_{t|t} = A Sigma_{t|t-1} A^T + blockdiag(w r w^T)`` with
-        ``A = blockdiag(I - w^i h_i^T)``, then ``Sigma_{t+1|t} = (I (x) F) Sigma_{t|t}
-        (I (x) F)^T + 1 1^T (x) Q``, from ``Sigma_{0|0} = 1 1^T (x) P0``.
+        ``s_t^i - r_i``). Computed on the joint error vector ``(e^1, ..., e^N)``
+        (:func:`_local_error_recursion`): ``Sigma_{t|t} = A Sigma_{t|t-1} A^T +
+        blockdiag(w r w^T)`` with ``A = blockdiag(I - w^i h_i^T)``.
         """
         if "local" in self._cache:
             return self._cache["local"]
-        N, T, F, Q = self.N, self.T, self.F, self.Q
+        N, T = self.N, self.T
         H, r = self.H, self.rvec
-        P0 = self.dynamics.P0
-        ones = np.ones((N, N))
-        Sig = np.kron(ones, P0)
-        IF = np.kron(np.eye(N), F)
         P_pred = np.empty((T, N, 2, 2))
         gain = np.empty((T, N, 2))
         s = np.empty((T, N))
@@ -664,9 +711,8 @@ class LinearScenario:
         Hblk = np.zeros((N, 2 * N))
         for i in range(N):
             Hblk[i, 2 * i:2 * i + 2] = H[i]
-        for t in range(T):
-            Sig = IF @ Sig @ IF.T + np.kron(ones, Q)
-            Sig = 0.5 * (Sig + Sig.T)
+
+        def update(t, Sig):
             A = np.zeros((2 * N, 2 * N))
             W = np.zeros((2 * N, 2 * N))
             for i in range(N):
@@ -678,8 +724,9 @@ class LinearScenario:
                 A[2 * i:2 * i + 2, 2 * i:2 * i + 2] = np.eye(2) - np.outer(w, H[i])
                 W[2 * i:2 * i + 2, 2 * i:2 * i + 2] = r[i] * np.outer(w, w)
             Cm[t] = Hblk @ Sig @ Hblk.T
-            Sig = A @ Sig @ A.T + W
-            Sig = 0.5 * (Sig + Sig.T)
+            return A, W
+
+        _local_error_recursion(self, update)
         out = {"P_pred": P_pred, "gain": gain, "s": s, "C": Cm}
         self._cache["local"] = out
         return out
@@ -692,7 +739,57 @@ class LinearScenario:
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _FusionCentre:
+class _ReferenceFC:
+    """What the reference FC models (:class:`fusioncenter.particle.FilterModel`, particles of
+    the target's state) share: the initial law and transition of the scenario ``self.sc``, and
+    the sensors' decisions that do not depend on the FC's broadcast."""
+
+    def initial(self, rng, n, P):
+        return self.sc.dynamics.initial(rng, n, P)
+
+    def transition(self, rng, t, x):
+        return self.sc.dynamics.transition(rng, t, x)
+
+    def _fixed_decisions(self, feedback: str, l: float, sel_u: np.ndarray) -> None:
+        """Fill ``self.sent`` where the decisions are known in advance: censoring without
+        feedback (``self._local_decisions()``), random selection, all-send."""
+        if self.censor and feedback == "none":
+            self._local_decisions()
+        elif self.scheme == "random":
+            self.sent[:] = sel_u < l / self.N
+        elif self.scheme == "all-send":
+            self.sent[:] = True
+
+
+class _FeedbackModel(_ReferenceFC):
+    """The FC's feedback of a linear target (``self.sc.feedback_moments``): the predicted mean
+    ``pred_mean (n, d)`` and covariance ``pred_cov (n, d, d)`` it broadcasts at every step."""
+
+    def _first_prediction(self, n: int) -> None:
+        """The broadcast of step 1: ``F x0`` and ``F P0 F^T + Q`` for every trial."""
+        dyn = self.sc.dynamics
+        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, dyn.dim)).copy()
+        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q,
+                                        (n, dyn.dim, dyn.dim)).copy()
+
+    def _cloud_moments(self, x: np.ndarray) -> None:
+        """``feedback_moments="particles"``: broadcast the mean and covariance of the propagated
+        particle cloud ``x (n, P, d)``."""
+        if self.sc.feedback_moments == "particles":
+            self.pred_mean = x.mean(axis=1)
+            dev = x - self.pred_mean[:, None, :]
+            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        if self.sc.feedback_moments == "analytic":
+            F, Q = self.sc.F, self.sc.Q
+            self.pred_mean = mean @ F.T
+            if cov is not None:
+                pc = F @ cov @ F.T + Q
+                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
+
+
+class _FusionCentre(_FeedbackModel):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials: it also plays the sensors, because with feedback their decisions at step
     ``t`` depend on what the FC broadcast after step ``t - 1``."""
@@ -709,18 +806,11 @@ class _FusionCentre:
         self.groups = sc.sensor_groups()
         self.local = sc.local_filters()
         self.sent = np.zeros((n, T, N), dtype=bool)
-        dyn = sc.dynamics
-        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
-        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        self._first_prediction(n)
         self.censor = scheme in ("cfomd", "cfwmd")
         self.needs_cov = feedback == "state+cov" and sc.feedback_moments == "analytic" \
             and self.censor
-        if self.censor and feedback == "none":
-            self._local_decisions()
-        elif scheme == "random":
-            self.sent[:] = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent[:] = True
+        self._fixed_decisions(feedback, l, sel_u)
 
     # --- sensors
     def _local_decisions(self) -> None:
@@ -729,10 +819,7 @@ class _FusionCentre:
 
     def _feedback_decisions(self, t: int, x: np.ndarray) -> np.ndarray:
         """With feedback: innovations against the broadcast prediction; returns ``s`` ``(n, N)``."""
-        if self.sc.feedback_moments == "particles":
-            self.pred_mean = x.mean(axis=1)
-            dev = x - self.pred_mean[:, None, :]
-            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+        self._cloud_moments(x)
         if self.feedback == "state+cov":
             s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
         else:
@@ -741,13 +828,7 @@ class _FusionCentre:
         self.sent[:, t - 1] = nu * nu >= self.eta * s
         return s
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition, observe: see _FeedbackModel)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         s = None
         if self.censor and self.feedback != "none":
@@ -788,14 +869,6 @@ class _FusionCentre:
                                        self.likelihood)
         return out
 
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        if self.sc.feedback_moments == "analytic":
-            F, Q = self.sc.F, self.sc.Q
-            self.pred_mean = mean @ F.T
-            if cov is not None:
-                pc = F @ cov @ F.T + Q
-                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
-
 
 def _truncated_normal(u, lo, hi):
     """Inverse-cdf draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (``u ~ U[0, 1)``).
@@ -818,7 +891,32 @@ def _truncated_normal(u, lo, hi):
     return np.where(flip, -zz, zz)
 
 
-class _ExactFusionCentre:
+class _ExactModel:
+    """What the exact no-feedback filters share: a particle is ``(x_t, xhat^1_{t|t-1}, ...,
+    xhat^N_{t|t-1})`` (``self.dim`` components, the state's first two), and a step where no
+    particle of a trial is consistent with who sent is relaxed and recorded in
+    ``self.relaxed (n, T)``."""
+
+    needs_cov = False
+
+    def initial(self, rng, n, P):
+        out = np.empty((n, P, self.dim))
+        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
+        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
+        return out
+
+    def _consistent(self, full: np.ndarray, ok: np.ndarray, k: int) -> np.ndarray:
+        """The log weights ``full (n, P)`` where ``ok`` (the particle explains who sent), ``-inf``
+        elsewhere; a trial with no such particle keeps ``full`` (the constraint relaxed)."""
+        w = np.where(ok, full, -np.inf)
+        dead = ~ok.any(axis=1)
+        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
+            w[dead] = full[dead]
+            self.relaxed[dead, k] = True
+        return w
+
+
+class _ExactFusionCentre(_ExactModel):
     """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
 
     Given a particle, a sensor's decision is deterministic in its measurement, so the weight is
@@ -832,8 +930,6 @@ class _ExactFusionCentre:
     few per thousand trial-steps with 250 particles), that step uses the weights without those
     indicators and is counted in ``relaxed`` (reported as ``CensoringResult.collapsed``).
     """
-
-    needs_cov = False
 
     def __init__(self, sc: LinearScenario, eta: float, z: np.ndarray, sent: np.ndarray):
         self.sc, self.eta, self.z, self.sent = sc, eta, z, sent
@@ -852,12 +948,6 @@ class _ExactFusionCentre:
         self.G = np.zeros((self.local["gain"].shape[0], N, 2 * N))
         for i in range(N):
             self.G[:, i, 2 * i:2 * i + 2] = self.local["gain"][:, i] @ sc.F.T
-
-    def initial(self, rng, n, P):
-        out = np.empty((n, P, self.dim))
-        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
-        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
-        return out
 
     def transition(self, rng, t, xa):
         n, P, _ = xa.shape
@@ -894,12 +984,7 @@ class _ExactFusionCentre:
                                            np.broadcast_to(self.a[k] / self.sd, hx.shape)[silent])
         full = out.sum(axis=-1)
         ok = (~sent | (np.abs(z - hxh) >= self.a[k])).all(axis=-1)  # (n, P)
-        w = np.where(ok, full, -np.inf)
-        dead = ~ok.any(axis=1)
-        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
-            w[dead] = full[dead]
-            self.relaxed[dead, k] = True
-        return w
+        return self._consistent(full, ok, k)
 
     def observe(self, t, mean, cov):
         pass
@@ -1521,6 +1606,34 @@ def paired_difference(a: CensoringResult, b: CensoringResult,
 
 
 # ----------------------------------------------------------------------------- run
+def _check_scheme(scheme: str, feedback: str) -> None:
+    _one_of("scheme", scheme, SCHEMES)
+    _one_of("feedback", feedback, FEEDBACK)
+
+
+def _check_resampling(scenario, ess_threshold: float) -> None:
+    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
+        raise ValueError("feedback_moments='particles' needs resampling at every step "
+                         "(ess_threshold=1.0)")
+
+
+def _run_chunks(chunk, scenario, scheme: str, feedback: str, likelihood: str, *, l, eta: float,
+                n_particles: int, ess_threshold: float, n_trials: int, seed: int,
+                chunk_size: int | None, executor, progress: bool, block_size: int,
+                chunk_kwargs: dict) -> CensoringResult:
+    """The trials of a ``run`` (arguments checked): ``chunk`` (the module's ``_chunk``, given
+    also ``chunk_kwargs``) through :func:`fusioncenter.montecarlo.simulate`, as a
+    :class:`CensoringResult`."""
+    fn = functools.partial(chunk, scenario=scenario, scheme=scheme, feedback=feedback, eta=eta,
+                           l=float(l), n_particles=n_particles,
+                           ess_threshold=float(ess_threshold), **chunk_kwargs)
+    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
+                             progress=progress, block_size=block_size)
+    return CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
+                           likelihood=likelihood, l=float(l), eta=eta, n_particles=n_particles,
+                           mc=mc)
+
+
 def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: int,
         feedback: str = "state", likelihood: str = "corrected", ess_threshold: float = 1.0,
         chunk_size: int | None = None, executor=None, progress: bool = False,
@@ -1567,26 +1680,16 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     if not isinstance(scenario, LinearScenario):
         raise ValueError("scenario must be a LinearScenario, VectorScenario or "
                          "NonlinearScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
-    if likelihood not in LIKELIHOODS:
-        raise ValueError(f"likelihood must be one of {LIKELIHOODS}, got {likelihood!r}")
+    _check_scheme(scheme, feedback)
+    _one_of("likelihood", likelihood, LIKELIHOODS)
     eta = threshold(l, scenario.N)
     n_particles = _posint("n_particles", n_particles)
     if scheme == "cfwmd" and feedback == "none" and likelihood == "corrected" and scenario.N > 2:
         raise ValueError(f"likelihood='corrected' without feedback is implemented for N <= 2, "
                          f"got N = {scenario.N} (use likelihood='printed')")
-    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
-        raise ValueError("feedback_moments='particles' needs resampling at every step "
-                         "(ess_threshold=1.0)")
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, eta=eta, l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold))
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, l=float(l), eta=eta, n_particles=n_particles,
-                           mc=mc)
+    _check_resampling(scenario, ess_threshold)
+    return _run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                       n_particles=n_particles, ess_threshold=ess_threshold, n_trials=n_trials,
+                       seed=seed, chunk_size=chunk_size, executor=executor, progress=progress,
+                       block_size=block_size, chunk_kwargs={"likelihood": likelihood})
 

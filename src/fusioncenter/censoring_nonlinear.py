@@ -50,7 +50,6 @@ Entry points (signature, one line each):
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -58,6 +57,8 @@ import numpy as np
 from scipy import special
 
 from fusioncenter import censoring, montecarlo, particle
+from fusioncenter._validate import one_of as _one_of
+from fusioncenter._validate import posint as _posint
 
 __all__ = [
     "SCHEMES",
@@ -81,12 +82,6 @@ FEEDBACK = ("state", "state+cov", "none")
 
 
 # ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
 def _posfloat(name: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
         raise ValueError(f"{name} must be a positive number, got {value!r}")
@@ -115,13 +110,9 @@ def grid_positions(per_side: int = 3, side: float = 20.0, *, layout: str = "cent
     return np.stack([gx.ravel(), gy.ravel()], axis=-1)
 
 
-def _tuple2(a) -> tuple:
-    return tuple(tuple(float(v) for v in row) for row in np.asarray(a, dtype=float))
-
-
 # ----------------------------------------------------------------------------- the scenario
 @dataclass(frozen=True)
-class NonlinearScenario:
+class NonlinearScenario(censoring._Scenario):
     """The nonlinear tracking model of zheng2014 Section VII.C.
 
     State ``x = [x, xdot, y, ydot]`` (m, m/s); ``x_{k+1} = F x_k + u_k``, ``F`` and
@@ -192,44 +183,25 @@ class NonlinearScenario:
             P0m = P0
         else:
             raise ValueError(f"P0 must be a diagonal (4,) or a (4, 4) covariance, got {self.P0!r}")
-        dt, s2 = self.dt, self.sigma2
-        F1 = np.array([[1.0, dt], [0.0, 1.0]])
-        q = np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]])
-        try:
-            dyn = particle.LinearGaussianDynamics(F=np.kron(np.eye(2), F1),
-                                                  Q=s2 * np.kron(np.eye(2), q), m0=x0, P0=P0m)
-        except ValueError as err:
-            raise ValueError(f"P0: {err}") from None
-        object.__setattr__(self, "sensors", _tuple2(sensors))
+        F1, q = censoring._wna(self.dt)
+        dyn = censoring._dynamics(np.kron(np.eye(2), F1), self.sigma2 * np.kron(np.eye(2), q),
+                                  x0, P0m)
+        object.__setattr__(self, "sensors", censoring._nested(sensors))
         object.__setattr__(self, "region", region)
         object.__setattr__(self, "T", T)
         object.__setattr__(self, "r", float(r) if r.ndim == 0 else tuple(r.tolist()))
         object.__setattr__(self, "x0", tuple(x0.tolist()))
-        object.__setattr__(self, "P0", tuple(P0.tolist()) if P0.ndim == 1 else _tuple2(P0))
+        object.__setattr__(self, "P0",
+                           tuple(P0.tolist()) if P0.ndim == 1 else censoring._nested(P0))
         self._cache["dynamics"] = dyn
         self._cache["pos"] = sensors
         self._cache["N"] = N
 
-    # --- model pieces (the attributes CensoringResult and the FC use)
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        return self._cache["dynamics"]
-
+    # --- model pieces (the attributes CensoringResult and the FC use; dynamics, d, F, Q: see
+    # censoring._Scenario)
     @property
     def N(self) -> int:
         return self._cache["N"]
-
-    @property
-    def d(self) -> int:
-        return 4
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
 
     @property
     def positions(self) -> np.ndarray:
@@ -285,11 +257,7 @@ class NonlinearScenario:
             "Jacobian": "g_k^i = dh^i/dx at the (broadcast or local) prediction xhat_{k|k-1}",
             "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
                          "(eq. (43))",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **censoring._SCHEME_CHOICES,
         }
 
     # --- simulation
@@ -297,14 +265,7 @@ class NonlinearScenario:
         """Truth and measurements of ``n`` trials: ``x (n, T+1, 4)`` (``x[:, 0] = x_0``), ``z (n,
         T, N)`` (``z[:, k-1]`` measured at step ``k``). Draws ``x_0`` (if ``initial_truth`` is
         ``"random"``), then ``T`` transitions, then all measurement noises."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 4))
-        if self.initial_truth == "random":
-            x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        else:
-            x[:, 0] = dyn.m0
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
         z = amplitude(self, x[:, 1:, [0, 2]]) + noise
         return x, z
@@ -532,7 +493,7 @@ def _silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np
 
 
 # ----------------------------------------------------------------------------- the fusion centre
-class _FusionCentre:
+class _FusionCentre(censoring._ReferenceFC):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials; it also plays the sensors (with feedback their decisions at step ``t``
     depend on the FC's broadcast after step ``t - 1``)."""
@@ -559,12 +520,7 @@ class _FusionCentre:
         self.P_loc = np.broadcast_to(dyn.P0, (n, N, 4, 4)).copy()  # P^i_{t-1|t-1}
         self.hx_pred = None
         self.hh = None
-        if self.censor and feedback == "none":
-            self._local_decisions()
-        elif scheme == "random":
-            self.sent[:] = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent[:] = True
+        self._fixed_decisions(feedback, l, sel_u)
 
     # --- sensors
     def _local_decisions(self) -> None:
@@ -589,13 +545,7 @@ class _FusionCentre:
         self.s[:, k] = s
         self.hh = np.sqrt(self.eta * s) / self.sd  # half-width of the silent interval / sd
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition: see censoring._ReferenceFC)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         k = t - 1
         if self.live:
@@ -708,23 +658,16 @@ def run(scenario: NonlinearScenario, scheme: str, *, l, n_trials: int, n_particl
     """
     if not isinstance(scenario, NonlinearScenario):
         raise ValueError("scenario must be a NonlinearScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
+    censoring._check_scheme(scheme, feedback)
     if scheme == "cfwmd" and feedback == "none":
         raise ValueError("feedback='none' is not available for scheme='cfwmd': without feedback "
                          "the paper gives no full likelihood for the nonlinear system (Remark 4 "
                          "(III)); use feedback='state' or 'state+cov'")
-    if likelihood not in censoring.LIKELIHOODS:
-        raise ValueError(f"likelihood must be one of {censoring.LIKELIHOODS}, got {likelihood!r}")
+    _one_of("likelihood", likelihood, censoring.LIKELIHOODS)
     eta = censoring.threshold(l, scenario.N)
     n_particles = _posint("n_particles", n_particles)
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback, eta=eta,
-                           l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold))
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return censoring.CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                                     likelihood=likelihood, l=float(l), eta=eta,
-                                     n_particles=n_particles, mc=mc)
+    return censoring._run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                                 n_particles=n_particles, ess_threshold=ess_threshold,
+                                 n_trials=n_trials, seed=seed, chunk_size=chunk_size,
+                                 executor=executor, progress=progress, block_size=block_size,
+                                 chunk_kwargs={})

@@ -74,6 +74,9 @@ from scipy import special
 
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo, particle
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import one_of as _one_of
+from fusioncenter._validate import posint as _posint
 
 __all__ = [
     "SCHEMES",
@@ -110,19 +113,6 @@ _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 
 
 # ----------------------------------------------------------------------------- validation
-def _posint(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be a positive integer, got {value!r}")
-    return int(value)
-
-
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
 def _eta(value) -> float:
     if isinstance(value, bool) or not np.isscalar(value) or not np.isfinite(value) or value < 0:
         raise ValueError(f"eta must be a finite non-negative number, got {value!r}")
@@ -236,17 +226,28 @@ def _log_canon(b1, b2, a1, a2, *, K: int = 64, zooms: int = 2, drop: float = 40.
     return out.reshape(shape)
 
 
-def _canonical_args(mean, cov, eta):
-    eta = _eta(eta)
-    mean = _finite("mean", mean)
-    if mean.ndim < 1 or mean.shape[-1] not in (1, 2):
-        raise ValueError(f"mean must have its last axis of length m in (1, 2), got {mean.shape}")
-    m = mean.shape[-1]
-    cov = _pd("cov", cov, m)
-    A, asc = _canonical_map(np.broadcast_to(np.eye(m), cov.shape), cov)
+def _log_canonical(b, a):
+    """``log P(sum_j u_j^2 / a_j^2 < 1)`` for ``u ~ N(b, I)``: ``b``, ``a`` ``(..., m)``, ``m``
+    in {1, 2} (accurate: :func:`_log_inside_1d`, :func:`_log_canon`)."""
+    if b.shape[-1] == 1:
+        return _log_inside_1d(b[..., 0], a[..., 0])
+    return _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
+
+
+def _means(name: str, value) -> np.ndarray:
+    """Mean vectors ``(..., m)``, ``m`` in {1, 2}."""
+    arr = _finite(name, value)
+    if arr.ndim < 1 or arr.shape[-1] not in (1, 2):
+        raise ValueError(f"{name} must have its last axis of length m in (1, 2), got {arr.shape}")
+    return arr
+
+
+def _log_in_ellipse(A, a_scale, mean, eta: float):
+    """:func:`_log_canonical` at ``b = A mean``, semi-axes ``sqrt(eta) a_scale`` (a canonical map
+    of :func:`_canonical_map`); a scalar for a single point."""
     b = (A @ mean[..., None])[..., 0]
-    a = math.sqrt(eta) * asc
-    return b, a, m
+    out = _log_canonical(b, math.sqrt(eta) * a_scale)
+    return out[()] if out.ndim == 0 else out
 
 
 def log_censored_probability(mean, cov, eta):
@@ -259,12 +260,12 @@ def log_censored_probability(mean, cov, eta):
     quadrature of the module docstring: relative error ~1e-13 (checked against mpmath), finite
     however far the mean lies outside the disc. ``-inf`` if ``eta = 0``.
     """
-    b, a, m = _canonical_args(mean, cov, eta)
-    if m == 1:
-        out = _log_inside_1d(b[..., 0], a[..., 0])
-    else:
-        out = _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
-    return out[()] if out.ndim == 0 else out
+    eta = _eta(eta)
+    mean = _means("mean", mean)
+    m = mean.shape[-1]
+    cov = _pd("cov", cov, m)
+    A, asc = _canonical_map(np.broadcast_to(np.eye(m), cov.shape), cov)
+    return _log_in_ellipse(A, asc, mean, eta)
 
 
 def censored_probability(mean, cov, eta):
@@ -302,21 +303,13 @@ def log_silent_probability(mu, S, R, eta):
     ``q = S^{-1/2} nu ~ N(S^{-1/2} mu, S^{-1/2} R S^{-1/2})`` (eqs. (35)-(38)).
     """
     eta = _eta(eta)
-    mu = _finite("mu", mu)
-    if mu.ndim < 1 or mu.shape[-1] not in (1, 2):
-        raise ValueError(f"mu must have its last axis of length m in (1, 2), got {mu.shape}")
+    mu = _means("mu", mu)
     m = mu.shape[-1]
     S = _pd("S", S, m)
     R = _pd("R", R, m)
     S, R = np.broadcast_arrays(S, R)
     A, asc = _canonical_map(S, R)
-    b = (A @ mu[..., None])[..., 0]
-    a = math.sqrt(eta) * asc
-    if m == 1:
-        out = _log_inside_1d(b[..., 0], a[..., 0])
-    else:
-        out = _log_canon(b[..., 0], b[..., 1], a[..., 0], a[..., 1])
-    return out[()] if out.ndim == 0 else out
+    return _log_in_ellipse(A, asc, mu, eta)
 
 
 # ----------------------------------------------------------------------------- fast tables
@@ -566,10 +559,7 @@ def _eval_silent(b, a, *, probability: str = "table", rng=None, n_q: int = 0):
     n, P, m = b.shape
     per_trial = a.ndim == 2
     if probability == "quadrature":
-        aa = np.broadcast_to(a[:, None, :] if per_trial else a, b.shape)
-        if m == 1:
-            return _log_inside_1d(b[..., 0], aa[..., 0])
-        return _log_canon(b[..., 0], b[..., 1], aa[..., 0], aa[..., 1])
+        return _log_canonical(b, np.broadcast_to(a[:, None, :] if per_trial else a, b.shape))
     if probability == "sampled":
         aa = np.broadcast_to(a[:, None, :] if per_trial else a, b.shape)
         count = np.zeros((n, P))
@@ -642,12 +632,8 @@ def log_likelihood_no_feedback_printed(sent, z, Hx, R, log_all_silent):
 
 
 # ----------------------------------------------------------------------------- the scenario
-def _nested(arr: np.ndarray):
-    return tuple(_nested(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
-
-
 @dataclass(frozen=True)
-class VectorScenario:
+class VectorScenario(cs._Scenario):
     """The tracking model of zheng2014 Section VII.B (vector observations).
 
     The target of Section VII.A (``x = [position, velocity]``, ``F = [[1, dt], [0, 1]]``,
@@ -706,52 +692,27 @@ class VectorScenario:
             raise ValueError(f"R must be ({m}, {m}) or one per sensor ({N}, {m}, {m}), "
                              f"got shape {R.shape}")
         R = _pd("R", R, m)
-        x0 = _finite("x0", self.x0)
-        if x0.shape != (2,):
-            raise ValueError(f"x0 must be a [position, velocity] pair, got {self.x0!r}")
-        if self.feedback_moments not in ("analytic", "particles"):
-            raise ValueError("feedback_moments must be 'analytic' or 'particles', "
-                             f"got {self.feedback_moments!r}")
+        x0 = cs._check_x0_pair(self.x0)
+        cs._check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
-        try:
-            dyn = particle.LinearGaussianDynamics(
-                F=np.array([[1.0, dt], [0.0, 1.0]]),
-                Q=float(sigma2) * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]),
-                m0=x0, P0=P0)
-        except ValueError as err:
-            raise ValueError(f"P0: {err}") from None
+        F, q = cs._wna(dt)
+        dyn = cs._dynamics(F, float(sigma2) * q, x0, P0)
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "sigma2", float(sigma2))
-        object.__setattr__(self, "H", _nested(H))
-        object.__setattr__(self, "R", _nested(R))
-        object.__setattr__(self, "x0", _nested(x0))
+        object.__setattr__(self, "H", cs._nested(H))
+        object.__setattr__(self, "R", cs._nested(R))
+        object.__setattr__(self, "x0", cs._nested(x0))
         if self.P0 is not None:
-            object.__setattr__(self, "P0", _nested(P0))
+            object.__setattr__(self, "P0", cs._nested(P0))
         self._cache["dynamics"] = dyn
 
-    # --- model pieces
-    @property
-    def dynamics(self) -> particle.LinearGaussianDynamics:
-        return self._cache["dynamics"]
-
-    @property
-    def d(self) -> int:
-        return 2
-
+    # --- model pieces (dynamics, d, F, Q: see censoring._Scenario)
     @property
     def m(self) -> int:
         """Dimension of every sensor's measurement."""
         return np.asarray(self.H).shape[-2]
-
-    @property
-    def F(self) -> np.ndarray:
-        return self.dynamics.F
-
-    @property
-    def Q(self) -> np.ndarray:
-        return self.dynamics.Q
 
     @property
     def Hs(self) -> np.ndarray:
@@ -765,16 +726,12 @@ class VectorScenario:
         R = np.asarray(self.R, dtype=float)
         return np.broadcast_to(R, (self.N, self.m, self.m)).copy()
 
-    position_index = (0,)
-    velocity_index = (1,)
-
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
         P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
         return {
-            "time axis": f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T "
-                         f"(T = {self.T}); RMSE and transmissions are reported for t = 1..T",
+            "time axis": cs._time_axis_choice(self.T),
             "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0}; the PF's particles "
                              "start from the same law",
             "motion model": f"the target of Section VII.A: sigma^2 = {self.sigma2} (Section "
@@ -798,11 +755,7 @@ class VectorScenario:
             "threshold": f"eta = chi2_m upper-(l/N) quantile with m = {self.m} (eq. (32))",
             "silent probability": "P(q^T q < eta) by quadrature (interpolated tables in the "
                                   "filter, error < 1e-6 in the log); the paper sampled it",
-            "random selection": "each sensor sends independently with probability l/N",
-            "all-send": "every sensor sends at every step (l is ignored)",
-            "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
-            "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
-                          "before resampling (A1.5)",
+            **cs._SCHEME_CHOICES,
             "no-feedback likelihood": "'exact' (particles carry every local prediction; "
                                       "default) or 'printed' Proposition 6 (= CFoMD)",
         }
@@ -810,11 +763,7 @@ class VectorScenario:
     def sample(self, rng: np.random.Generator, n: int):
         """Truth ``x (n, T+1, 2)`` and measurements ``z (n, T, N, m)`` of ``n`` trials: draws
         ``x_0``, then ``T`` transitions, then all measurement noises ``(n, T, N, m)``."""
-        dyn = self.dynamics
-        x = np.empty((n, self.T + 1, 2))
-        x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
-        for t in range(1, self.T + 1):
-            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        x = self._truth(rng, n)
         noise = rng.standard_normal((n, self.T, self.N, self.m))
         L = np.linalg.cholesky(self.Rs)
         z = np.einsum("ntk,imk->ntim", x[:, 1:], self.Hs) + np.einsum("ntij,imj->ntim", noise, L)
@@ -831,19 +780,14 @@ class VectorScenario:
         """
         if "local" in self._cache:
             return self._cache["local"]
-        N, T, F, Q, m = self.N, self.T, self.F, self.Q, self.m
+        N, T, m = self.N, self.T, self.m
         H, R = self.Hs, self.Rs
-        P0 = self.dynamics.P0
-        ones = np.ones((N, N))
-        Sig = np.kron(ones, P0)
-        IF = np.kron(np.eye(N), F)
         P_pred = np.empty((T, N, 2, 2))
         gain = np.empty((T, N, 2, m))
         S = np.empty((T, N, m, m))
         Sigma = np.empty((T, 2 * N, 2 * N))
-        for t in range(T):
-            Sig = IF @ Sig @ IF.T + np.kron(ones, Q)
-            Sig = 0.5 * (Sig + Sig.T)
+
+        def update(t, Sig):  # the joint recursion: cs._local_error_recursion
             Sigma[t] = Sig
             A = np.zeros((2 * N, 2 * N))
             Wn = np.zeros((2 * N, 2 * N))
@@ -857,8 +801,9 @@ class VectorScenario:
                 gain[t, i] = W
                 A[blk, blk] = np.eye(2) - W @ H[i]
                 Wn[blk, blk] = W @ R[i] @ W.T
-            Sig = A @ Sig @ A.T + Wn
-            Sig = 0.5 * (Sig + Sig.T)
+            return A, Wn
+
+        cs._local_error_recursion(self, update)
         Acan, asc = _canonical_map(S, np.broadcast_to(R, S.shape))
         out = {"P_pred": P_pred, "gain": gain, "S": S, "Sigma": Sigma,
                "A": Acan @ H, "a_scale": asc}
@@ -990,7 +935,7 @@ def _whitening(R):
     return np.linalg.inv(L), 2.0 * float(np.log(np.diag(L)).sum())
 
 
-class _VectorFC:
+class _VectorFC(cs._FeedbackModel):
     """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
     block of trials and every scheme except the exact no-feedback filter. It also plays the
     sensors: with feedback their decisions at step ``t`` depend on the FC's broadcast."""
@@ -1007,9 +952,7 @@ class _VectorFC:
         self.H, self.R = sc.Hs, sc.Rs
         self.groups = sc.sensor_groups()
         self.local = sc.local_filters()
-        dyn = sc.dynamics
-        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
-        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        self._first_prediction(n)
         self.censor = scheme in ("cfomd", "cfwmd")
         self.fb = self.censor and feedback != "none"
         self.needs_cov = self.fb and feedback == "state+cov" and sc.feedback_moments == "analytic"
@@ -1032,10 +975,7 @@ class _VectorFC:
 
     # --- sensors
     def _feedback_decisions(self, k: int, x: np.ndarray):
-        if self.sc.feedback_moments == "particles":
-            self.pred_mean = x.mean(axis=1)
-            dev = x - self.pred_mean[:, None, :]
-            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+        self._cloud_moments(x)
         nu = self.z[:, k] - np.einsum("nk,imk->nim", self.pred_mean, self.H)
         if self.feedback == "state+cov":
             S = np.einsum("imk,nkl,ijl->nimj", self.H, self.pred_cov, self.H) + self.R
@@ -1047,13 +987,7 @@ class _VectorFC:
         self.sent[:, k] = nis >= self.eta
         return S
 
-    # --- FilterModel
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
+    # --- FilterModel (initial, transition, observe: see censoring._FeedbackModel)
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         k = t - 1
         S = self._feedback_decisions(k, x) if self.fb else None
@@ -1094,30 +1028,12 @@ class _VectorFC:
             out[rows] += n_sil[rows, None] * val
         return out
 
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        if self.sc.feedback_moments == "analytic":
-            F, Q = self.sc.F, self.sc.Q
-            self.pred_mean = mean @ F.T
-            if cov is not None:
-                pc = F @ cov @ F.T + Q
-                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
-
 
 def _truncated_std_normal(rng, lo, hi):
-    """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (inverse cdf; an interval in the
-    upper tail is reflected into the lower tail, where ``Phi`` keeps its relative accuracy)."""
-    flip = lo > 0
-    a = np.where(flip, -hi, lo)
-    b = np.where(flip, -lo, hi)
-    pa, pb = special.ndtr(a), special.ndtr(b)
-    u = rng.random(np.shape(a))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        zz = special.ndtri(pa + u * (pb - pa))
-        far = ~(pb > 1e-300) | ~np.isfinite(zz)
-        if far.any():  # beyond ~38 sd: the exponential tail next to the bound nearest the mean
-            zz[far] = b[far] + np.log1p(-u[far]) / np.abs(b[far])
-    zz = np.clip(zz, a, b)
-    return np.where(flip, -zz, zz)
+    """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
+    :func:`fusioncenter.censoring._truncated_normal` at uniforms drawn from ``rng``."""
+    return cs._truncated_normal(rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi))),
+                                lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):
@@ -1171,7 +1087,7 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
     return out, int(todo.size)
 
 
-class _VectorExactFC:
+class _VectorExactFC(cs._ExactModel):
     """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
 
     Given a particle, a sensor's decision is a deterministic function of its measurement, so the
@@ -1183,8 +1099,6 @@ class _VectorExactFC:
     conditional law). As in the scalar library, a step where no particle of a trial is compatible
     with who sent is relaxed (the indicators dropped) and counted.
     """
-
-    needs_cov = False
 
     def __init__(self, sc: VectorScenario, eta: float, z: np.ndarray, sent: np.ndarray,
                  probability: str, n_q: int, rng_q):
@@ -1202,12 +1116,6 @@ class _VectorExactFC:
         # u -> nu: nu = A_L^{-1} u with A_L = V^T L^{-1} (per step and sensor)
         AL, _ = _canonical_map(self.local["S"], np.broadcast_to(self.R, self.local["S"].shape))
         self.ALinv = np.linalg.inv(AL)
-
-    def initial(self, rng, n, P):
-        out = np.empty((n, P, self.dim))
-        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
-        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
-        return out
 
     def transition(self, rng, t, xa):
         out = np.empty_like(xa)
@@ -1254,12 +1162,7 @@ class _VectorExactFC:
                 b = (x[sil] - xh[sil]) @ self.local["A"][k, i].T
                 full[sil] += _eval_silent(b, a[i], probability=self.probability, rng=self.rng_q,
                                           n_q=self.n_q)
-        w = np.where(ok, full, -np.inf)
-        dead = ~ok.any(axis=1)
-        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
-            w[dead] = full[dead]
-            self.relaxed[dead, k] = True
-        return w
+        return self._consistent(full, ok, k)
 
     def observe(self, t, mean, cov):
         pass
@@ -1587,13 +1490,7 @@ def _chunk(rng: np.random.Generator, n: int, *, scenario: VectorScenario, scheme
     model = fc
     if scheme == "cfwmd" and feedback == "none" and likelihood == "exact":
         model = _VectorExactFC(scenario, eta, z, fc.sent, probability, n_q, rng_q)
-    res = particle.run_filter(model, rng_pf, n, n_particles, scenario.T,
-                              ess_threshold=ess_threshold)
-    sq = (res.mean[..., :2] - x[:, 1:]) ** 2
-    collapsed = res.collapsed | getattr(model, "relaxed", False)
-    return np.concatenate([sq, fc.sent.sum(axis=-1, keepdims=True).astype(float),
-                           res.ess[..., None] / n_particles,
-                           collapsed[..., None].astype(float)], axis=-1)
+    return cs._reference_output(model, fc, rng_pf, n, n_particles, ess_threshold, x)
 
 
 # ----------------------------------------------------------------------------- run
@@ -1627,32 +1524,23 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
     """
     if not isinstance(scenario, VectorScenario):
         raise ValueError("scenario must be a VectorScenario")
-    if scheme not in SCHEMES:
-        raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    if feedback not in FEEDBACK:
-        raise ValueError(f"feedback must be one of {FEEDBACK}, got {feedback!r}")
+    cs._check_scheme(scheme, feedback)
     if likelihood not in (*LIKELIHOODS, "corrected"):
         raise ValueError(f"likelihood must be one of {LIKELIHOODS}, got {likelihood!r}")
     if likelihood == "corrected" and scheme == "cfwmd" and feedback == "none":
         raise ValueError("likelihood='corrected' is not implemented for vector observations (it "
                          "is an integral over every sensor's local prediction per particle): "
                          f"use one of {LIKELIHOODS}")
-    if probability not in PROBABILITIES:
-        raise ValueError(f"probability must be one of {PROBABILITIES}, got {probability!r}")
+    _one_of("probability", probability, PROBABILITIES)
     n_q = _posint("n_q", n_q)
     if engine not in ("fused", "reference"):
         raise ValueError(f"engine must be 'fused' or 'reference', got {engine!r}")
     eta = cs.threshold(l, scenario.N, dof=scenario.m)
     n_particles = _posint("n_particles", n_particles)
-    if scenario.feedback_moments == "particles" and ess_threshold < 1.0:
-        raise ValueError("feedback_moments='particles' needs resampling at every step "
-                         "(ess_threshold=1.0)")
-    fn = functools.partial(_chunk, scenario=scenario, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, eta=eta, l=float(l), n_particles=n_particles,
-                           ess_threshold=float(ess_threshold), probability=probability, n_q=n_q,
-                           engine=engine)
-    mc = montecarlo.simulate(fn, n_trials, seed, chunk_size=chunk_size, executor=executor,
-                             progress=progress, block_size=block_size)
-    return cs.CensoringResult(scenario=scenario, scheme=scheme, feedback=feedback,
-                              likelihood=likelihood, l=float(l), eta=eta,
-                              n_particles=n_particles, mc=mc)
+    cs._check_resampling(scenario, ess_threshold)
+    return cs._run_chunks(_chunk, scenario, scheme, feedback, likelihood, l=l, eta=eta,
+                          n_particles=n_particles, ess_threshold=ess_threshold,
+                          n_trials=n_trials, seed=seed, chunk_size=chunk_size, executor=executor,
+                          progress=progress, block_size=block_size,
+                          chunk_kwargs={"likelihood": likelihood, "probability": probability,
+                                        "n_q": n_q, "engine": engine})

@@ -57,6 +57,7 @@ import numpy as np
 import scipy.optimize
 
 from fusioncenter import riccati
+from fusioncenter._validate import finite as _finite
 from fusioncenter.kalman import LinearGaussianModel
 
 __all__ = [
@@ -89,13 +90,6 @@ SCHEMES = ("stochastic", "stochastic-ignore", "random", "all-send")
 
 
 # ----------------------------------------------------------------------------- validation
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
 def _obs_matrix(C) -> np.ndarray:
     C = _finite("C", C)
     if C.ndim != 2 or C.shape[0] < 1 or C.shape[1] < 1:

@@ -44,6 +44,9 @@ import scipy.optimize
 import scipy.special
 
 from fusioncenter import montecarlo
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import nonneg as _nonneg
+from fusioncenter._validate import positive as _positive
 
 __all__ = [
     "ACCESS_SCHEMES",
@@ -153,18 +156,8 @@ def _gamma_ratio(z: np.ndarray, m: float) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- validation
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return arr
-
-
-def _nonneg(name: str, value) -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr < 0):
-        raise ValueError(f"{name} must be non-negative (it is a variance), got {value!r}")
-    return arr
+#: The reason given when a variance is negative.
+_VARIANCE = "it is a variance"
 
 
 def _shift(name: str, value) -> np.ndarray:
@@ -172,13 +165,6 @@ def _shift(name: str, value) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if np.any(np.isnan(arr)) or np.any(arr < 0):
         raise ValueError(f"{name} must be non-negative, got {value!r}")
-    return arr
-
-
-def _positive(name: str, value, what: str = "a variance") -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr <= 0):
-        raise ValueError(f"{name} must be positive ({what}), got {value!r}")
     return arr
 
 
@@ -215,10 +201,10 @@ def _channel(channel):
 
 def _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps):
     return (_scalar("a", _finite("a", a)),
-            _scalar("sigma_w2", _nonneg("sigma_w2", sigma_w2)),
+            _scalar("sigma_w2", _nonneg("sigma_w2", sigma_w2, _VARIANCE)),
             _scalar("sigma_v2", _positive("sigma_v2", sigma_v2)),
             _scalar("sigma_n2", _positive("sigma_n2", sigma_n2)),
-            _scalar("p0", _nonneg("p0", p0)),
+            _scalar("p0", _nonneg("p0", p0, _VARIANCE)),
             _int("steps", steps, 0))
 
 
@@ -414,7 +400,7 @@ def expected_posterior(p, sigma_v2, sigma_n2, channel):
 
     Equals ``p (sigma_v2 + p g(b)) / (p + sigma_v2)`` with ``b = sigma_n2 / (p + sigma_v2)``.
     """
-    p = _nonneg("p", p)
+    p = _nonneg("p", p, _VARIANCE)
     sv2 = _positive("sigma_v2", sigma_v2)
     sn2 = _positive("sigma_n2", sigma_n2)
     g = _channel(channel).ratio_mean(sn2 / (p + sv2))
@@ -541,8 +527,8 @@ def _multi_args(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps):
                              f"shape {sn2.shape}")
         sn2 = np.broadcast_to(sn2, c.shape).astype(float)
     return (access, _scalar("a", _finite("a", a)), c, sv2, sn2, lams,
-            _scalar("sigma_w2", _nonneg("sigma_w2", sigma_w2)),
-            _scalar("p0", _nonneg("p0", p0)), _int("steps", steps, 0))
+            _scalar("sigma_w2", _nonneg("sigma_w2", sigma_w2, _VARIANCE)),
+            _scalar("p0", _nonneg("p0", p0, _VARIANCE)), _int("steps", steps, 0))
 
 
 def _multi_chunk(rng, n, *, access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps):

@@ -49,6 +49,8 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import riccati
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import positive as _positive
 
 __all__ = [
     "ACCESS",
@@ -99,20 +101,6 @@ def _access(access) -> str:
     if access not in ACCESS:
         raise ValueError(f"access must be one of {ACCESS}, got {access!r}")
     return access
-
-
-def _finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    return arr
-
-
-def _positive(name: str, value, what: str = "a variance") -> np.ndarray:
-    arr = _finite(name, value)
-    if np.any(arr <= 0):
-        raise ValueError(f"{name} must be positive ({what}), got {value!r}")
-    return arr
 
 
 def _a(a, *, stable: bool = True) -> np.ndarray:

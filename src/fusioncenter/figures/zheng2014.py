@@ -22,9 +22,11 @@ see :data:`DATA_KEYS`.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import dataclasses
 import functools
 import math
+import os
 
 import matplotlib.ticker
 import numpy as np
@@ -124,6 +126,23 @@ def _executor(profile: str):
     return concurrent.futures.ProcessPoolExecutor(workers)
 
 
+@contextlib.contextmanager
+def _one_blas_thread_env():
+    """The BLAS and OpenMP thread counts set to 1 for the processes started inside (the worker
+    pools of the vector and nonlinear entries), the variables restored afterwards."""
+    keys = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+    old = {k: os.environ.get(k) for k in keys}
+    os.environ.update({k: "1" for k in keys})
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
 class _Serial:
     """A stand-in for a process pool (``pool = None``: runs in this process)."""
 
@@ -183,6 +202,24 @@ def _stack(cur: list[dict], key: str) -> np.ndarray:
     return np.array([c[key] for c in cur])
 
 
+def _stacked(cur: list[dict], *, velocity_average: bool = True) -> dict:
+    """One row per run of ``cur`` (its :func:`_curves`): RMSE against time, time-averaged RMSE
+    (of the velocity too if ``velocity_average``), transmissions per step; with stderrs."""
+    out = {"rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
+           "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
+           "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe")}
+    if velocity_average:
+        out |= {"tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve")}
+    return out | {"transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre")}
+
+
+def _printed_max_abs_diff(by: dict) -> float:
+    """Largest difference of the squared errors of CFwMD with the no-feedback likelihood as
+    printed (``by["printed"]``) and of CFoMD (``by["cfomd"]``) on the same trials."""
+    return float(np.max(np.abs(by["printed"].mc.samples[..., :2]
+                               - by["cfomd"].mc.samples[..., :2])))
+
+
 def _params(sc: cs.LinearScenario, **extra) -> dict:
     return {"N": sc.N, "r": sc.r, "sigma2": sc.sigma2, "T": sc.T, "x0": list(sc.x0),
             "dt": sc.dt, "h": list(sc.h), "trials": dict(TRIALS), "particles": dict(PARTICLES),
@@ -210,29 +247,34 @@ def _fig1_runs(profile: str, seed: int) -> tuple:
                           executor=ex.pool) for s in SCHEMES)
 
 
-def compute_fig1(profile: str, seed: int) -> dict:
-    runs = _fig1_runs(profile, seed)
-    cur = [_curves(r) for r in runs]
-    pairs = [("all-send", "cfwmd"), ("cfwmd", "cfomd"), ("cfomd", "random")]
-    by = dict(zip(SCHEMES, runs, strict=True))
+def _pairs(by: dict, pairs) -> tuple:
+    """Paired differences ``by[a] - by[b]`` of the time-averaged RMSE for every pair ``(a,
+    b)``: ``(diff, stderr)`` of the position, then of the velocity, as arrays."""
     dp = [cs.paired_difference(by[a], by[b], "position") for a, b in pairs]
     dv = [cs.paired_difference(by[a], by[b], "velocity") for a, b in pairs]
+    return (np.array([d for d, _ in dp]), np.array([s for _, s in dp]),
+            np.array([d for d, _ in dv]), np.array([s for _, s in dv]))
+
+
+def _schemes_data(runs, N: int, l: float) -> dict:
+    """The data of a figure of the four :data:`SCHEMES` (``runs`` in that order) with state
+    feedback: Fig. 1, and Fig. 4 of :mod:`fusioncenter.figures.zheng2014_vector`."""
+    cur = [_curves(r) for r in runs]
+    pairs = [("all-send", "cfwmd"), ("cfwmd", "cfomd"), ("cfomd", "random")]
+    dp, sp, dv, sv = _pairs(dict(zip(SCHEMES, runs, strict=True)), pairs)
     return {
         "time": runs[0].time.astype(float), "schemes": np.array(SCHEMES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
-        "pairs": np.array(pairs),
-        "pair_diff_position": np.array([d for d, _ in dp]),
-        "pair_stderr_position": np.array([s for _, s in dp]),
-        "pair_diff_velocity": np.array([d for d, _ in dv]),
-        "pair_stderr_velocity": np.array([s for _, s in dv]),
+        **_stacked(cur),
+        "pairs": np.array(pairs), "pair_diff_position": dp, "pair_stderr_position": sp,
+        "pair_diff_velocity": dv, "pair_stderr_velocity": sv,
         "collapsed": _stack(cur, "col"),
         "n_trials": runs[0].mc.n_trials, "n_particles": runs[0].n_particles,
-        "N": FIG1["N"], "l": FIG1["l"], "eta": runs[-1].eta,
+        "N": N, "l": l, "eta": runs[-1].eta,
     }
+
+
+def compute_fig1(profile: str, seed: int) -> dict:
+    return _schemes_data(_fig1_runs(profile, seed), FIG1["N"], FIG1["l"])
 
 
 def _rmse_panels(data: dict, names, labels, styles=None):
@@ -273,6 +315,7 @@ def plot_fig1(data: dict):
 
 
 def checks_fig1(data: dict) -> list[Claim]:
+    """The statements on Fig. 1, which the paper makes of Fig. 4 too (vector observations)."""
     pairs = [tuple(p) for p in data["pairs"]]
     tr, tre = data["transmissions"], data["transmissions_stderr"]
     sch = list(data["schemes"])
@@ -330,14 +373,30 @@ def _fig2_runs(profile: str, seed: int) -> tuple:
     return a, b
 
 
-def compute_fig2(profile: str, seed: int) -> dict:
-    a, b = _fig2_runs(profile, seed)
+def _by_l_data(a, b, ls, N: int, **extra) -> dict:
+    """The data of a figure of CFwMD (runs ``a``) against CFwMD2 (runs ``b``) at every ``l``
+    of ``ls`` (Fig. 2; Fig. 5 of the vector module), with the entries ``extra``."""
     ca, cb = [_curves(r) for r in a], [_curves(r) for r in b]
-    diff, dse, gain, gse = [], [], [], []
+    diff, dse = [], []
     for ra, rb in zip(a, b, strict=True):
         d, s = cs.paired_difference(rb, ra)
         diff.append(d)
         dse.append(s)
+    return {
+        "time": a[0].time.astype(float), "l": np.array(ls),
+        "rmse_position": np.array([_stack(ca, "rp"), _stack(cb, "rp")]),
+        "rmse_position_stderr": np.array([_stack(ca, "rpe"), _stack(cb, "rpe")]),
+        "tavg_position": np.array([_stack(ca, "tp"), _stack(cb, "tp")]),
+        "tavg_position_stderr": np.array([_stack(ca, "tpe"), _stack(cb, "tpe")]),
+        "diff": np.array(diff), "diff_stderr": np.array(dse), **extra,
+        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": N,
+    }
+
+
+def compute_fig2(profile: str, seed: int) -> dict:
+    a, b = _fig2_runs(profile, seed)
+    gain, gse = [], []
+    for ra, rb in zip(a, b, strict=True):
         va, ia = cs._tavg_influence(ra, "position")
         vb, ib = cs._tavg_influence(rb, "position")
         # relative gain (va - vb) / va by the delta method, per trial
@@ -345,19 +404,13 @@ def compute_fig2(profile: str, seed: int) -> dict:
         infl = (ia - ib) / va - (va - vb) * ia / va**2
         gain.append(g)
         gse.append(float(infl.std(ddof=1) / math.sqrt(infl.size)))
-    return {
-        "time": a[0].time.astype(float), "l": np.array(L_FIG2),
-        "rmse_position": np.array([_stack(ca, "rp"), _stack(cb, "rp")]),
-        "rmse_position_stderr": np.array([_stack(ca, "rpe"), _stack(cb, "rpe")]),
-        "tavg_position": np.array([_stack(ca, "tp"), _stack(cb, "tp")]),
-        "tavg_position_stderr": np.array([_stack(ca, "tpe"), _stack(cb, "tpe")]),
-        "diff": np.array(diff), "diff_stderr": np.array(dse),
-        "rel_gain": np.array(gain), "rel_gain_stderr": np.array(gse),
-        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": FIG2["N"],
-    }
+    return _by_l_data(a, b, L_FIG2, FIG2["N"], rel_gain=np.array(gain),
+                      rel_gain_stderr=np.array(gse))
 
 
-def plot_fig2(data: dict):
+def _by_l_panels(data: dict, *, l_ticks: bool = False):
+    """(a) position RMSE of CFwMD and CFwMD2 against time for every ``l``; (b) their time
+    averages against ``l`` (ticks at the ``l`` values if ``l_ticks``)."""
     fig, (ax1, ax2) = plotting.subplots(1, 2)
     t = data["time"]
     for i, l in enumerate(data["l"]):
@@ -375,8 +428,14 @@ def plot_fig2(data: dict):
                      capsize=3, label=LABELS[name])
     ax2.set(xlabel="target number of transmissions per step l (-)",
             ylabel="time-averaged position RMSE (m)", title="(b) time average, 95 % bars")
+    if l_ticks:
+        ax2.set_xticks(data["l"])
     ax2.legend(fontsize=8)
-    return plotting.finish(fig)
+    return fig
+
+
+def plot_fig2(data: dict):
+    return plotting.finish(_by_l_panels(data))
 
 
 def checks_fig2(data: dict) -> list[Claim]:
@@ -405,20 +464,39 @@ def checks_fig2(data: dict) -> list[Claim]:
     ]
 
 
-def compute_table1(profile: str, seed: int) -> dict:
-    a, b = _fig2_runs(profile, seed)
-    l = np.array(L_FIG2)
-    ta = np.array([r.average_transmissions for r in a])
-    tb = np.array([r.average_transmissions for r in b])
-    pa, pb = np.array(PAPER_TABLE1["cfwmd"]), np.array(PAPER_TABLE1["cfwmd2"])
+def _closer_z(a, b, l) -> list[float]:
+    """For every ``l``: ``|CFwMD - l| - |CFwMD2 - l|`` (transmissions per step of the runs
+    ``a`` and ``b``) over its paired standard error (per-trial time averages)."""
     closer = []
     for ra, rb, li in zip(a, b, l, strict=True):
-        # |CFwMD - l| - |CFwMD2 - l| from per-trial time averages (paired)
         sa = ra.mc.samples[..., ra.scenario.d].mean(axis=1)
         sb = rb.mc.samples[..., rb.scenario.d].mean(axis=1)
         da, db = sa.mean() - li, sb.mean() - li
         per = np.sign(da) * (sa - li) - np.sign(db) * (sb - li)
         closer.append((abs(da) - abs(db)) / (per.std(ddof=1) / math.sqrt(per.size)))
+    return closer
+
+
+def _transmissions_data(a, b, ls, paper: dict, N: int) -> dict:
+    """Transmissions per step of CFwMD (runs ``a``) and CFwMD2 (``b``) at every ``l`` of
+    ``ls``, next to the ``paper``'s values (Table I; Table II of the vector module)."""
+    l = np.array(ls)
+    ta = np.array([r.average_transmissions for r in a])
+    tb = np.array([r.average_transmissions for r in b])
+    pa, pb = np.array(paper["cfwmd"]), np.array(paper["cfwmd2"])
+    return {
+        "l": l, "cfwmd": ta[:, 0], "cfwmd_stderr": ta[:, 1], "cfwmd2": tb[:, 0],
+        "cfwmd2_stderr": tb[:, 1], "paper_cfwmd": pa, "paper_cfwmd2": pb,
+        "z_cfwmd": (ta[:, 0] - pa) / (math.sqrt(2) * ta[:, 1]),
+        "z_cfwmd2": (tb[:, 0] - pb) / (math.sqrt(2) * tb[:, 1]),
+        "closer_z": np.array(_closer_z(a, b, l)),
+        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": N,
+    }
+
+
+def compute_table1(profile: str, seed: int) -> dict:
+    a, b = _fig2_runs(profile, seed)
+    l = np.array(L_FIG2)
     # the paper's explanation at l = 1: steps where nobody sends, and runs of them
     none, runs, runs_se, runs_z = [], [], [], []
     for ra, rb in zip(a, b, strict=True):
@@ -434,30 +512,34 @@ def compute_table1(profile: str, seed: int) -> dict:
         "p_none": np.array(none), "p_none_independent": (1 - l / FIG2["N"]) ** FIG2["N"],
         "silent_pairs": np.array(runs), "silent_pairs_stderr": np.array(runs_se),
         "silent_pairs_z": np.array(runs_z),
-        "l": l, "cfwmd": ta[:, 0], "cfwmd_stderr": ta[:, 1], "cfwmd2": tb[:, 0],
-        "cfwmd2_stderr": tb[:, 1], "paper_cfwmd": pa, "paper_cfwmd2": pb,
-        "z_cfwmd": (ta[:, 0] - pa) / (math.sqrt(2) * ta[:, 1]),
-        "z_cfwmd2": (tb[:, 0] - pb) / (math.sqrt(2) * tb[:, 1]),
-        "closer_z": np.array(closer),
-        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": FIG2["N"],
+        **_transmissions_data(a, b, L_FIG2, PAPER_TABLE1, FIG2["N"]),
     }
 
 
-def plot_table1(data: dict):
+def _transmissions_plot(data: dict, labels: dict, table: str, title: str, *,
+                        l_ticks: bool = False):
+    """Transmissions per step minus ``l`` of CFwMD and CFwMD2 against ``l``, with the paper's
+    values (its Table ``table``)."""
     fig, ax = plotting.subplots()
     l = data["l"]
     for j, name in enumerate(("cfwmd", "cfwmd2")):
         col = plotting.OKABE_ITO[j]
         ax.errorbar(l, data[name] - l, yerr=1.96 * data[f"{name}_stderr"], color=col, ls="-",
-                    marker=plotting.MARKERS[j], capsize=3, label=f"{LABELS[name]} (ours)")
+                    marker=plotting.MARKERS[j], capsize=3, label=f"{labels[name]} (ours)")
         ax.plot(l, data[f"paper_{name}"] - l, color=col, ls="none", marker="x", markersize=7,
-                label=f"{LABELS[name]} (paper, Table I)")
+                label=f"{labels[name]} (paper, Table {table})")
     ax.axhline(0.0, color="0.4", lw=0.8, ls=":", label="target: l per step")
+    if l_ticks:
+        ax.set_xticks(l)
     ax.set(xlabel="target number of transmissions per step l (-)",
-           ylabel="transmissions per step minus l (-)",
-           title=f"N = {data['N']}: average transmissions per step ({data['n_trials']} trials)")
+           ylabel="transmissions per step minus l (-)", title=title)
     ax.legend(fontsize=8)
     return plotting.finish(fig)
+
+
+def plot_table1(data: dict):
+    return _transmissions_plot(data, LABELS, "I", f"N = {data['N']}: average transmissions per "
+                               f"step ({data['n_trials']} trials)")
 
 
 def checks_table1(data: dict) -> list[Claim]:
@@ -564,8 +646,7 @@ def compute_fig3(profile: str, seed: int) -> dict:
     runs = _fig3_runs(profile, seed)
     by = dict(zip(FIG3_CURVES, runs, strict=True))
     cur = [_curves(r) for r in runs]
-    printed_diff = float(np.max(np.abs(by["printed"].mc.samples[..., :2]
-                                       - by["cfomd"].mc.samples[..., :2])))
+    printed_diff = _printed_max_abs_diff(by)
     pairs = [("all-send", "cfomd"), ("cfomd", "random"), ("corrected", "cfomd"),
              ("exact", "cfomd"), ("exact", "corrected")]
     pd, ps, pn = [], [], []
@@ -577,11 +658,7 @@ def compute_fig3(profile: str, seed: int) -> dict:
         pn.append(n)
     return {
         "time": runs[0].time.astype(float), "curves": np.array(FIG3_CURVES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
-        "collapsed": _stack(cur, "col"),
+        **_stacked(cur, velocity_average=False), "collapsed": _stack(cur, "col"),
         "n_trials": np.array([r.mc.n_trials for r in runs]),
         "printed_max_abs_diff": printed_diff,
         "pairs": np.array(pairs), "pair_diff": np.array(pd), "pair_stderr": np.array(ps),
@@ -672,14 +749,7 @@ def compute_choices(profile: str, seed: int) -> dict:
             out[key].append(tt[:, 0])
             out[f"{key}_stderr"].append(tt[:, 1])
             out[f"tavg_{key}"].append([r.time_averaged_rmse()[0] for r in rr])
-        cz = []
-        for ra, rb, li in zip(a, b, l, strict=True):
-            sa = ra.mc.samples[..., ra.scenario.d].mean(axis=1)
-            sb = rb.mc.samples[..., rb.scenario.d].mean(axis=1)
-            da, db = sa.mean() - li, sb.mean() - li
-            per = np.sign(da) * (sa - li) - np.sign(db) * (sb - li)
-            cz.append((abs(da) - abs(db)) / (per.std(ddof=1) / math.sqrt(per.size)))
-        out["closer_z"].append(cz)
+        out["closer_z"].append(_closer_z(a, b, l))
         out["diff_z"].append([d / se for d, se in (cs.paired_difference(rb, ra)
                                                    for ra, rb in zip(a, b, strict=True))])
     data = {k: np.array(v) for k, v in out.items()}

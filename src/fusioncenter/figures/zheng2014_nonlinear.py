@@ -22,7 +22,6 @@ import contextlib
 import functools
 import math
 import multiprocessing
-import os
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
@@ -30,6 +29,7 @@ import numpy as np
 from fusioncenter import censoring, plotting
 from fusioncenter import censoring_nonlinear as cn
 from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.zheng2014 import _one_blas_thread_env
 from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -123,19 +123,10 @@ def _pool(workers: int):
     """A pool of forked worker processes with one BLAS thread each (and the usual variables
     set for anything they start). Fork, not spawn: a spawned worker would re-run the caller's
     ``__main__`` (a script, or ``python -m fusioncenter``)."""
-    keys = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-    old = {k: os.environ.get(k) for k in keys}
-    os.environ.update({k: "1" for k in keys})
-    try:
+    with _one_blas_thread_env():
         ctx = multiprocessing.get_context("fork")
         with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_one_blas_thread) as ex:
             yield ex
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 def runs(profile: str, seed: int, specs) -> dict[tuple, censoring.CensoringResult]:

@@ -21,10 +21,9 @@ Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import functools
-import math
 import multiprocessing
-import os
 
 import numpy as np
 
@@ -32,11 +31,24 @@ from fusioncenter import censoring as cs
 from fusioncenter import censoring_vector as cv
 from fusioncenter import plotting
 from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (Z_ORDER = 4)
+from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (Z_* = 4)
+    SCHEMES,
+    Z_ORDER,
+    Z_TOL,
+    _by_l_data,
+    _by_l_panels,
     _curves,
-    _log_y,
+    _one_blas_thread_env,
+    _pairs,
+    _printed_max_abs_diff,
+    _rmse_panels,
+    _schemes_data,
     _stack,
+    _stacked,
+    _transmissions_data,
+    _transmissions_plot,
     _z_claim_ordered,
+    checks_fig1,
 )
 from fusioncenter.profile import by_profile
 
@@ -58,20 +70,12 @@ TRIALS_FIG6 = {"fast": 512, "paper": 5000}
 #: Worker processes in the paper profile (``None``: serial). The fast profile is serial.
 WORKERS = {"fast": None, "paper": 2}
 
-SCHEMES = ("all-send", "random", "cfomd", "cfwmd")
 LABELS = {"all-send": "all-send", "random": "random selection", "cfomd": "CFoMD",
           "cfwmd": "CFwMD", "cfwmd2": "CFwMD2", "printed": "CFwMD, Prop. 6 as printed",
           "exact": "CFwMD, exact filter"}
 L_FIG5 = (1.0, 2.0, 3.0)
 #: Table II of the paper (experimental average number of transmissions, N = 4).
 PAPER_TABLE2 = {"cfwmd": (0.9296, 1.7573, 2.8029), "cfwmd2": (1.0069, 2.0035, 3.0151)}
-
-#: A paired difference counts as an ordering when it exceeds Z_ORDER standard errors.
-Z_ORDER = 4.0
-#: Agreement of a Monte Carlo estimate with a printed value: |z| < Z_TOL, with the standard
-#: error of the difference taken as sqrt(2) times ours (the paper's own Monte Carlo error, from
-#: the same number of trials, is assumed equal to ours; it is not stated).
-Z_TOL = 4.0
 
 #: What ``compute`` returns, per entry.
 DATA_KEYS = {
@@ -108,30 +112,20 @@ class _Pool:
     """Two worker processes (spawned, so that ``OPENBLAS_NUM_THREADS=1`` takes effect in them)
     for the paper profile; ``pool = None`` (serial) for the fast profile."""
 
-    _ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-
     def __init__(self, profile: str):
         self.workers = by_profile(profile, **WORKERS)
         self.pool = None
-        self.saved: dict = {}
+        self._stack = contextlib.ExitStack()
 
     def __enter__(self):
         if self.workers:
-            self.saved = {k: os.environ.get(k) for k in self._ENV}
-            for k in self._ENV:
-                os.environ[k] = "1"
-            self.pool = concurrent.futures.ProcessPoolExecutor(
-                self.workers, mp_context=multiprocessing.get_context("spawn"))
+            self._stack.enter_context(_one_blas_thread_env())
+            self.pool = self._stack.enter_context(concurrent.futures.ProcessPoolExecutor(
+                self.workers, mp_context=multiprocessing.get_context("spawn")))
         return self
 
     def __exit__(self, *exc):
-        if self.pool is not None:
-            self.pool.shutdown()
-            for k, v in self.saved.items():
-                if v is None:
-                    os.environ.pop(k, None)
-                else:
-                    os.environ[k] = v
+        self._stack.close()  # shuts the pool down, then restores the variables
         return False
 
 
@@ -149,33 +143,6 @@ def _params(sc: cv.VectorScenario, **extra) -> dict:
             "choices": sc.choices}
 
 
-def _rmse_panels(data: dict, names, styles=None):
-    fig, axes = plotting.subplots(1, 2)
-    t = data["time"]
-    for i, name in enumerate(names):
-        kw = {"marker": plotting.MARKERS[i % len(plotting.MARKERS)], "markersize": 3.5}
-        if styles:
-            kw.update(styles.get(name, {}))
-        plotting.errorband(axes[0], t, data["rmse_position"][i],
-                           data["rmse_position_stderr"][i], label=LABELS[name], **kw)
-        plotting.errorband(axes[1], t, data["rmse_velocity"][i],
-                           data["rmse_velocity_stderr"][i], label=LABELS[name], **kw)
-    axes[0].set(xlabel="time (s)", ylabel="position RMSE (m)", title="(a) position")
-    axes[1].set(xlabel="time (s)", ylabel="velocity RMSE (m/s)", title="(b) velocity")
-    for ax in axes:
-        _log_y(ax)
-        ax.set_xticks([1, 5, 10, 15, 20])
-    axes[0].legend(fontsize=8)
-    return fig
-
-
-def _pairs(by: dict, pairs) -> tuple:
-    dp = [cs.paired_difference(by[a], by[b], "position") for a, b in pairs]
-    dv = [cs.paired_difference(by[a], by[b], "velocity") for a, b in pairs]
-    return (np.array([d for d, _ in dp]), np.array([s for _, s in dp]),
-            np.array([d for d, _ in dv]), np.array([s for _, s in dv]))
-
-
 # ============================================================== Fig. 4 (feedback)
 FIG4 = {"N": 2, "l": 1.0, "feedback": "state"}
 
@@ -190,57 +157,19 @@ def _fig4_runs(profile: str, seed: int) -> tuple:
 
 
 def compute_fig4(profile: str, seed: int) -> dict:
-    runs = _fig4_runs(profile, seed)
-    cur = [_curves(r) for r in runs]
-    pairs = [("all-send", "cfwmd"), ("cfwmd", "cfomd"), ("cfomd", "random")]
-    dp, sp, dv, sv = _pairs(dict(zip(SCHEMES, runs, strict=True)), pairs)
-    return {
-        "time": runs[0].time.astype(float), "schemes": np.array(SCHEMES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
-        "pairs": np.array(pairs), "pair_diff_position": dp, "pair_stderr_position": sp,
-        "pair_diff_velocity": dv, "pair_stderr_velocity": sv,
-        "collapsed": _stack(cur, "col"),
-        "n_trials": runs[0].mc.n_trials, "n_particles": runs[0].n_particles,
-        "N": FIG4["N"], "l": FIG4["l"], "eta": runs[-1].eta,
-    }
+    return _schemes_data(_fig4_runs(profile, seed), FIG4["N"], FIG4["l"])
 
 
 def plot_fig4(data: dict):
-    fig = _rmse_panels(data, list(data["schemes"]))
+    fig = _rmse_panels(data, list(data["schemes"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, feedback of the predicted state, "
                                       f"N = {data['N']}, l = {data['l']:g} "
                                       f"({data['n_trials']} trials, {data['n_particles']} "
                                       "particles; bands: 95 %)")
 
 
-def checks_fig4(data: dict) -> list[Claim]:
-    pairs = [tuple(p) for p in data["pairs"]]
-    tr, tre = data["transmissions"], data["transmissions_stderr"]
-    sch = list(data["schemes"])
-    z_rand = abs(tr[sch.index("random")] - data["l"]) / tre[sch.index("random")]
-    cens = [tr[sch.index("cfwmd")], tr[sch.index("cfomd")]]
-    return [
-        _z_claim_ordered("time-averaged position RMSE: all-send < CFwMD < CFoMD < random "
-                         "selection (paired differences)", pairs,
-                         data["pair_diff_position"], data["pair_stderr_position"]),
-        _z_claim_ordered("time-averaged velocity RMSE: all-send < CFwMD < CFoMD < random "
-                         "selection (paired differences)", pairs,
-                         data["pair_diff_velocity"], data["pair_stderr_velocity"]),
-        Claim("random selection sends l sensors per step on average",
-              bool(z_rand < Z_TOL), f"{tr[sch.index('random')]:.4f} (z = {z_rand:.2f})"),
-        Claim("the censoring schemes save about half of the transmissions: within 10 % of "
-              "l = 1 per step (with state feedback the design rate holds only approximately, "
-              "Remark 1 (III))",
-              bool(all(abs(c - data["l"]) < 0.1 * data["l"] for c in cens)),
-              f"CFwMD {cens[0]:.4f}, CFoMD {cens[1]:.4f} per step"),
-        Claim("no step lost its data to a collapse of the weights",
-              bool(np.all(data["collapsed"] == 0)),
-              f"collapsed (trial, step) pairs {data['collapsed'].tolist()}"),
-    ]
+#: The paper says of Fig. 4 what it says of Fig. 1: the same claims.
+checks_fig4 = checks_fig1
 
 
 register(Entry(
@@ -282,46 +211,14 @@ def _silent_steps(res: cs.CensoringResult) -> float:
 
 def compute_fig5(profile: str, seed: int) -> dict:
     a, b = _fig5_runs(profile, seed)
-    ca, cb = [_curves(r) for r in a], [_curves(r) for r in b]
-    diff, dse = [], []
-    for ra, rb in zip(a, b, strict=True):
-        d, s = cs.paired_difference(rb, ra)
-        diff.append(d)
-        dse.append(s)
-    return {
-        "time": a[0].time.astype(float), "l": np.array(L_FIG5),
-        "rmse_position": np.array([_stack(ca, "rp"), _stack(cb, "rp")]),
-        "rmse_position_stderr": np.array([_stack(ca, "rpe"), _stack(cb, "rpe")]),
-        "tavg_position": np.array([_stack(ca, "tp"), _stack(cb, "tp")]),
-        "tavg_position_stderr": np.array([_stack(ca, "tpe"), _stack(cb, "tpe")]),
-        "diff": np.array(diff), "diff_stderr": np.array(dse),
-        "silent_steps": np.array([[_silent_steps(r) for r in a], [_silent_steps(r) for r in b]]),
-        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": FIG5["N"],
-    }
+    return _by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
+        [[_silent_steps(r) for r in a], [_silent_steps(r) for r in b]]))
 
 
 def plot_fig5(data: dict):
-    fig, (ax1, ax2) = plotting.subplots(1, 2)
-    t = data["time"]
-    for i, l in enumerate(data["l"]):
-        col = plotting.OKABE_ITO[i % len(plotting.OKABE_ITO)]
-        ax1.plot(t, data["rmse_position"][0, i], color=col, ls="-", label=f"l = {l:g}")
-        ax1.plot(t, data["rmse_position"][1, i], color=col, ls="--")
-    ax1.plot([], [], color="0.3", ls="-", label="CFwMD (solid)")
-    ax1.plot([], [], color="0.3", ls="--", label="CFwMD2 (dashed)")
-    ax1.set(xlabel="time (s)", ylabel="position RMSE (m)",
-            title=f"(a) N = {data['N']}, by l")
-    ax1.legend(fontsize=7, ncol=2)
-    for j, name in enumerate(("cfwmd", "cfwmd2")):
-        ax2.errorbar(data["l"], data["tavg_position"][j],
-                     yerr=1.96 * data["tavg_position_stderr"][j], marker=plotting.MARKERS[j],
-                     capsize=3, label=LABELS[name])
-    ax2.set(xlabel="target number of transmissions per step l (-)",
-            ylabel="time-averaged position RMSE (m)", title="(b) time average, 95 % bars")
-    ax2.set_xticks(data["l"])
-    ax2.legend(fontsize=8)
-    return plotting.finish(fig, title=f"vector observations ({data['n_trials']} trials, "
-                                      f"{data['n_particles']} particles)")
+    return plotting.finish(_by_l_panels(data, l_ticks=True),
+                           title=f"vector observations ({data['n_trials']} trials, "
+                                 f"{data['n_particles']} particles)")
 
 
 def checks_fig5(data: dict) -> list[Claim]:
@@ -352,45 +249,13 @@ def checks_fig5(data: dict) -> list[Claim]:
 
 def compute_table2(profile: str, seed: int) -> dict:
     a, b = _fig5_runs(profile, seed)
-    l = np.array(L_FIG5)
-    ta = np.array([r.average_transmissions for r in a])
-    tb = np.array([r.average_transmissions for r in b])
-    pa, pb = np.array(PAPER_TABLE2["cfwmd"]), np.array(PAPER_TABLE2["cfwmd2"])
-    closer = []
-    for ra, rb, li in zip(a, b, l, strict=True):
-        # |CFwMD - l| - |CFwMD2 - l| from per-trial time averages (paired)
-        sa = ra.mc.samples[..., ra.scenario.d].mean(axis=1)
-        sb = rb.mc.samples[..., rb.scenario.d].mean(axis=1)
-        da, db = sa.mean() - li, sb.mean() - li
-        per = np.sign(da) * (sa - li) - np.sign(db) * (sb - li)
-        closer.append((abs(da) - abs(db)) / (per.std(ddof=1) / math.sqrt(per.size)))
-    return {
-        "l": l, "cfwmd": ta[:, 0], "cfwmd_stderr": ta[:, 1], "cfwmd2": tb[:, 0],
-        "cfwmd2_stderr": tb[:, 1], "paper_cfwmd": pa, "paper_cfwmd2": pb,
-        "z_cfwmd": (ta[:, 0] - pa) / (math.sqrt(2) * ta[:, 1]),
-        "z_cfwmd2": (tb[:, 0] - pb) / (math.sqrt(2) * tb[:, 1]),
-        "closer_z": np.array(closer),
-        "n_trials": a[0].mc.n_trials, "n_particles": a[0].n_particles, "N": FIG5["N"],
-    }
+    return _transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
 
 
 def plot_table2(data: dict):
-    fig, ax = plotting.subplots()
-    l = data["l"]
-    for j, name in enumerate(("cfwmd", "cfwmd2")):
-        col = plotting.OKABE_ITO[j]
-        ax.errorbar(l, data[name] - l, yerr=1.96 * data[f"{name}_stderr"], color=col, ls="-",
-                    marker=plotting.MARKERS[j], capsize=3, label=f"{LABELS[name]} (ours)")
-        ax.plot(l, data[f"paper_{name}"] - l, color=col, ls="none", marker="x", markersize=7,
-                label=f"{LABELS[name]} (paper, Table II)")
-    ax.axhline(0.0, color="0.4", lw=0.8, ls=":", label="target: l per step")
-    ax.set_xticks(l)
-    ax.set(xlabel="target number of transmissions per step l (-)",
-           ylabel="transmissions per step minus l (-)",
-           title=f"N = {data['N']}, vector observations: average transmissions per step "
-                 f"({data['n_trials']} trials)")
-    ax.legend(fontsize=8)
-    return plotting.finish(fig)
+    return _transmissions_plot(data, LABELS, "II", f"N = {data['N']}, vector observations: "
+                               f"average transmissions per step ({data['n_trials']} trials)",
+                               l_ticks=True)
 
 
 def checks_table2(data: dict) -> list[Claim]:
@@ -478,19 +343,14 @@ def compute_fig6(profile: str, seed: int) -> dict:
     runs = _fig6_runs(profile, seed)
     by = dict(zip(FIG6_CURVES, runs, strict=True))
     cur = [_curves(r) for r in runs]
-    printed_diff = float(np.max(np.abs(by["printed"].mc.samples[..., :2]
-                                       - by["cfomd"].mc.samples[..., :2])))
+    printed_diff = _printed_max_abs_diff(by)
     pairs = [("all-send", "cfomd"), ("cfomd", "random"), ("exact", "cfomd")]
     dp, sp, dv, sv = _pairs(by, pairs)
     sc = runs[0].scenario
     mass = np.array([cv.printed_mass(sc, FIG6["l"], t) for t in range(1, sc.T + 1)])
     return {
         "time": runs[0].time.astype(float), "curves": np.array(FIG6_CURVES),
-        "rmse_position": _stack(cur, "rp"), "rmse_position_stderr": _stack(cur, "rpe"),
-        "rmse_velocity": _stack(cur, "rv"), "rmse_velocity_stderr": _stack(cur, "rve"),
-        "tavg_position": _stack(cur, "tp"), "tavg_position_stderr": _stack(cur, "tpe"),
-        "tavg_velocity": _stack(cur, "tv"), "tavg_velocity_stderr": _stack(cur, "tve"),
-        "transmissions": _stack(cur, "tr"), "transmissions_stderr": _stack(cur, "tre"),
+        **_stacked(cur),
         "collapsed": _stack(cur, "col"), "printed_max_abs_diff": printed_diff,
         "pairs": np.array(pairs), "pair_diff": dp, "pair_stderr": sp,
         "pair_diff_velocity": dv, "pair_stderr_velocity": sv, "printed_mass": mass,
@@ -501,7 +361,7 @@ def compute_fig6(profile: str, seed: int) -> dict:
 
 def plot_fig6(data: dict):
     styles = {"printed": {"ls": ":", "marker": "x"}, "exact": {"ls": "-", "lw": 2.2}}
-    fig = _rmse_panels(data, list(data["curves"]), styles)
+    fig = _rmse_panels(data, list(data["curves"]), LABELS, styles)
     return plotting.finish(fig, title=f"vector observations, no feedback, N = {data['N']}, "
                                       f"l = {data['l']:g} ({data['n_trials']} trials, "
                                       f"{data['n_particles']} particles)")
