@@ -72,8 +72,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
+from fusioncenter import _kernels, montecarlo, particle
 from fusioncenter import censoring as cs
-from fusioncenter import montecarlo, particle
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
@@ -1377,8 +1377,9 @@ class _FusedVector:
         dt = float(self.sc.F[0, 1])
         F, Q = self.sc.F, self.sc.Q
         work = np.empty((min(sub, n), P))
-        cbuf = np.empty((min(sub, n), P))
-        ar = {}
+        rowbuf = np.empty((4, min(sub, n)))
+        every = np.ones(min(sub, n), dtype=bool)
+        anc = np.empty((min(sub, n), P), dtype=np.intp)
         for t in range(1, T + 1):
             k = t - 1
             if self.exact and t > 1:
@@ -1414,10 +1415,9 @@ class _FusedVector:
                     mx[dead] = 0.0
                 lw -= mx[:, None]
                 w = np.exp(lw, out=lw)
-                w /= w.sum(axis=1)[:, None]
-                mp = np.einsum("ij,ij->i", w, p)
-                mv = np.einsum("ij,ij->i", w, v)
-                ess = 1.0 / np.einsum("ij,ij->i", w, w)
+                # weight sum, weighted means and ESS in one compiled pass (w is not normalized)
+                S, mp, mv, ess = (a[:m_] for a in rowbuf)
+                _kernels.weighted_moments(w, p, v, S, mp, mv, ess)
                 out[R, k, 0] = (mp - x_true[R, t, 0]) ** 2
                 out[R, k, 1] = (mv - x_true[R, t, 1]) ** 2
                 out[R, k, 3] = ess / P
@@ -1429,33 +1429,23 @@ class _FusedVector:
                     self.ref.pred_mean[R, 1] = mv
                     if self.need_cov:
                         dp, dv = p - mp[:, None], v - mv[:, None]
-                        wdv = w * dv
+                        wn = w / S[:, None]
+                        wdv = wn * dv
                         cov = np.empty((m_, 2, 2))
-                        cov[:, 0, 0] = (w * dp * dp).sum(axis=1)
+                        cov[:, 0, 0] = (wn * dp * dp).sum(axis=1)
                         cov[:, 0, 1] = cov[:, 1, 0] = (wdv * dp).sum(axis=1)
                         cov[:, 1, 1] = (wdv * dv).sum(axis=1)
                         pc = F @ cov @ F.T + Q
                         self.ref.pred_cov[R] = 0.5 * (pc + np.swapaxes(pc, -1, -2))
                 # A1.6: systematic resampling (one uniform per trial), as particle.run_filter
-                todo = np.ones(m_, dtype=bool) if every_step else ess <= ess_threshold * P
+                todo = every[:m_] if every_step else ess <= ess_threshold * P
                 if not every_step:
                     with np.errstate(divide="ignore"):
-                        lw_prev[R] = np.where(todo[:, None], 0.0, np.log(w))
-                c = np.cumsum(w, axis=1, out=cbuf[:m_])
-                c /= c[:, -1:]
-                c[:, -1] = 1.0
-                c *= P
-                c -= u[R, None]
-                np.ceil(c, out=c)
-                cnt = c.astype(np.intp)
-                cnt[:, 1:] -= cnt[:, :-1].copy()
-                if not every_step:
-                    cnt[~todo] = 1  # identity for the trials that are not resampled
-                if m_ not in ar:
-                    ar[m_] = np.arange(m_ * P)
-                idx = np.repeat(ar[m_], cnt.ravel())
+                        lw_prev[R] = np.where(todo[:, None], 0.0, np.log(w / S[:, None]))
+                a = anc[:m_]
+                _kernels.systematic_ancestors(w, S, u[R], todo, a)
                 for arr, new in zip(arrays, spare, strict=True):
-                    np.take(arr[R].ravel(), idx, out=new[R].reshape(-1))
+                    _kernels.take_rows(arr[R], a, new[R])
             arrays, spare = spare, arrays
         return out
 
