@@ -1,17 +1,19 @@
-"""Compiled inner loops of the fused particle filter (:class:`fusioncenter.censoring._FusedFilter`).
+"""Compiled inner loops of the fused particle filters (:class:`fusioncenter.censoring._FusedFilter`
+and the vector observations' filter in :mod:`fusioncenter.censoring_vector`).
 
-NumPy needs about fifteen passes over the ``(trials, particles)`` arrays for what a particle
-filter does after the log weights of a step are known (maximum, ``exp``, three weighted sums,
-``cumsum``, ``ceil``, differences, ``repeat`` and two gathers for systematic resampling), and a
-dozen more to evaluate an interpolation table. The functions here do the same arithmetic in one
-or two passes per trial, compiled by Numba. They are row by row, so a trial's result never
-depends on the other trials of a block (results stay independent of chunking), and they draw no
-random numbers (the filter draws them with NumPy, in the same order as the reference engine).
+Once the weights of a step are known, NumPy needs about a dozen passes over the
+``(trials, particles)`` arrays for what a particle filter does with them: three weighted sums
+for the estimate and the effective sample size, then ``cumsum``, divide, ``ceil``, differences,
+``repeat`` and a gather per coordinate for systematic resampling; evaluating an interpolation
+table takes another dozen. The functions here do the same work in one or two passes per trial,
+compiled by Numba. They go row by row, so a trial's result never depends on the other trials of
+a block (results stay independent of chunking), and they draw no random numbers (the filters
+draw them with NumPy, in the same order as the reference engine).
 
-What is computed is the same as the NumPy code it replaces, operation for operation, except
-the order of the three sums (sequential here, pairwise in NumPy) and ``exp`` (LLVM's instead of
-NumPy's SIMD one): both differ by rounding only, and the tests compare the fused engine with the
-reference engine (:func:`fusioncenter.particle.run_filter`) to ``1e-9``.
+The arithmetic is the NumPy code's, operation for operation, except the order of the weighted
+sums (sequential here, pairwise in NumPy), which changes results by rounding only; the tests
+compare the fused engines with the reference engine (:func:`fusioncenter.particle.run_filter`)
+to ``1e-9`` and each kernel with its NumPy counterpart (``tests/test_kernels.py``).
 """
 
 from __future__ import annotations
