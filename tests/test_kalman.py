@@ -50,7 +50,8 @@ def test_sample_shapes_and_statistics():
         ({"A": np.ones((2, 3))}, "A must be square"),
         ({"C": np.ones((1, 3))}, "C must have 2 columns"),
         ({"Q": np.array([[1.0, 2.0], [0.0, 1.0]])}, "Q must be symmetric"),
-        ({"R": np.array([[0.0]])}, "R must be positive definite"),
+        ({"R": np.array([[-1.0]])}, "R must be positive semi-definite"),
+        ({"R": np.array([[np.nan]])}, "R must be finite"),
         ({"P0": -np.eye(2)}, "P0 must be positive semi-definite"),
         ({"m0": np.zeros(3)}, "m0 must have length 2"),
     ],
@@ -65,5 +66,7 @@ def test_model_validation(change, match):
 def test_constant_velocity_validation():
     with pytest.raises(ValueError, match="dt"):
         constant_velocity(dt=0)
-    with pytest.raises(ValueError, match="r > 0"):
-        constant_velocity(r=0)
+    with pytest.raises(ValueError, match="r must be non-negative"):
+        constant_velocity(r=-1.0)
+    with pytest.raises(ValueError, match="q must be finite"):
+        constant_velocity(q=np.nan)

@@ -1,10 +1,23 @@
 """Input validators shared by the modules (each raises ``ValueError`` naming the argument).
 
-* ``posint(name, value) -> int``: a positive integer (``bool`` rejected).
+The rule they enforce at the public surface: a function either returns finite, meaningful
+numbers or raises ``ValueError`` (or a named subclass) whose message starts with the name of the
+offending argument and states the reason. NaN and infinities are rejected by every numeric
+validator; covariances are checked symmetric and positive semi-definite (or definite) with a
+relative tolerance. The validators never modify the values they accept (``covariance`` returns
+the input unchanged, not symmetrized), so accepting an input does not change any result bit.
+
+* ``posint(name, value) -> int``: a positive integer (``bool`` rejected, NumPy integers
+  accepted).
+* ``integer(name, value, minimum=0) -> int``: an integer ``>= minimum`` (``bool`` rejected).
 * ``finite(name, value) -> ndarray``: a float array with finite entries.
 * ``positive(name, value, what="a variance") -> ndarray``: finite and ``> 0``.
 * ``nonneg(name, value, what=None) -> ndarray``: finite and ``>= 0``.
 * ``one_of(name, value, options)``: ``value`` must be one of ``options``.
+* ``covariance(name, value, *, definite=False, n=None, batch=False) -> ndarray``: a finite,
+  square, symmetric, positive semi-definite (or definite) matrix, or a stack of them.
+* ``finite_result(name, value, why) -> ndarray``: a computed result must be finite (raises
+  ``ValueError`` saying why it is not: an overflow the inputs caused).
 
 ``what`` is the reason stated in the message, e.g. ``"x must be positive (a variance), got 0"``.
 """
@@ -13,23 +26,128 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["posint", "finite", "positive", "nonneg", "one_of"]
+__all__ = ["posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
+           "finite_result", "SYMMETRY_RTOL", "PSD_RTOL"]
+
+#: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
+#: * max |M|`` entrywise.
+SYMMETRY_RTOL = 1e-10
+#: Relative tolerance of the semi-definiteness check: the smallest eigenvalue of ``(M + M^T)/2``
+#: must be ``>= -PSD_RTOL * max |M|`` (rounding in a computed covariance gives eigenvalues of
+#: order ``-1e-16 * max |M|``); for ``definite=True`` it must be ``> PSD_RTOL * max |M|``.
+PSD_RTOL = 1e-10
 
 
 def posint(name: str, value) -> int:
+    """A positive integer (Python or NumPy integer; ``bool`` rejected).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+
+    Returns
+    -------
+    int
+        ``value`` as a Python ``int``.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not an integer ``>= 1`` (``True`` is not an integer here).
+    """
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
     return int(value)
 
 
+def integer(name: str, value, minimum: int = 0) -> int:
+    """An integer ``>= minimum`` (Python or NumPy integer; ``bool`` rejected).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : object
+        The value to check (a seed, a number of steps, an index).
+    minimum : int
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+        ``value`` as a Python ``int``.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not an integer (``True``, ``2.0`` and ``"3"`` are not) or is below
+        ``minimum``.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def _as_float(name: str, value) -> np.ndarray:
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or array of them, got {value!r}") from None
+
+
 def finite(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
+    """A float array with finite entries.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : array_like
+        Numbers (Python or NumPy scalars, sequences, arrays).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``numpy.asarray(value, dtype=float)`` (0-d for a scalar).
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not convertible to floats or has a NaN or infinite entry.
+    """
+    arr = _as_float(name, value)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return arr
 
 
 def positive(name: str, value, what: str = "a variance") -> np.ndarray:
+    """A finite float array with entries ``> 0``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : array_like
+        Numbers.
+    what : str
+        Why the value must be positive, quoted in the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values as floats.
+
+    Raises
+    ------
+    ValueError
+        If an entry is NaN, infinite or ``<= 0``.
+    """
     arr = finite(name, value)
     if np.any(arr <= 0):
         raise ValueError(f"{name} must be positive ({what}), got {value!r}")
@@ -37,6 +155,27 @@ def positive(name: str, value, what: str = "a variance") -> np.ndarray:
 
 
 def nonneg(name: str, value, what: str | None = None) -> np.ndarray:
+    """A finite float array with entries ``>= 0``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : array_like
+        Numbers.
+    what : str, optional
+        Why the value must be non-negative, quoted in the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values as floats.
+
+    Raises
+    ------
+    ValueError
+        If an entry is NaN, infinite or negative.
+    """
     arr = finite(name, value)
     if np.any(arr < 0):
         why = f" ({what})" if what else ""
@@ -44,7 +183,102 @@ def nonneg(name: str, value, what: str | None = None) -> np.ndarray:
     return arr
 
 
-
 def one_of(name: str, value, options) -> None:
+    """``value`` must be one of ``options``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : object
+        The value to check.
+    options : container
+        The allowed values.
+
+    Raises
+    ------
+    ValueError
+        If ``value not in options``.
+    """
     if value not in options:
         raise ValueError(f"{name} must be one of {options}, got {value!r}")
+
+
+def covariance(name: str, value, *, definite: bool = False, n: int | None = None,
+               batch: bool = False) -> np.ndarray:
+    """A covariance matrix: finite, square, symmetric and positive semi-definite (or definite).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : array_like
+        A matrix ``(n, n)``, or with ``batch=True`` a stack ``(..., n, n)`` of them.
+    definite : bool
+        Require positive definiteness (smallest eigenvalue ``> PSD_RTOL * max |M|``) instead of
+        semi-definiteness (``>= -PSD_RTOL * max |M|``).
+    n : int, optional
+        The required size.
+    batch : bool
+        Allow leading (batch) axes.
+
+    Returns
+    -------
+    numpy.ndarray
+        The matrix as floats, unchanged (not symmetrized).
+
+    Raises
+    ------
+    ValueError
+        If it is not finite, not a (stack of) square matrices of the right size, not symmetric
+        to ``SYMMETRY_RTOL``, or has an eigenvalue below the tolerance.
+    """
+    arr = finite(name, value)
+    if arr.ndim < 2 or (arr.ndim > 2 and not batch) or arr.shape[-1] != arr.shape[-2]:
+        want = "a square matrix (..., n, n)" if batch else "a square matrix (n, n)"
+        raise ValueError(f"{name} must be {want}, got shape {arr.shape}")
+    if n is not None and arr.shape[-1] != n:
+        raise ValueError(f"{name} must be {n}x{n}, got shape {arr.shape}")
+    if arr.size == 0:
+        return arr
+    scale = np.abs(arr).max(axis=(-2, -1), keepdims=True)
+    asym = np.abs(arr - np.swapaxes(arr, -1, -2))
+    if np.any(asym > SYMMETRY_RTOL * scale):
+        raise ValueError(f"{name} must be symmetric (a covariance), got {value!r}")
+    low = np.linalg.eigvalsh(0.5 * (arr + np.swapaxes(arr, -1, -2)))[..., 0]
+    tol = PSD_RTOL * scale[..., 0, 0]
+    if definite and np.any(low <= tol):
+        raise ValueError(f"{name} must be positive definite, got smallest eigenvalue "
+                         f"{float(np.min(low)):.3g}")
+    if np.any(low < -tol):
+        raise ValueError(f"{name} must be positive semi-definite (a covariance), got smallest "
+                         f"eigenvalue {float(np.min(low)):.3g}")
+    return arr
+
+
+def finite_result(name: str, value, why: str) -> np.ndarray:
+    """A computed result must be finite.
+
+    Parameters
+    ----------
+    name : str
+        What was computed, used in the message.
+    value : array_like
+        The result.
+    why : str
+        Which inputs make it overflow, quoted in the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``value`` as an array, unchanged.
+
+    Raises
+    ------
+    ValueError
+        If an entry is NaN or infinite.
+    """
+    arr = np.asarray(value)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} is not finite: {why}")
+    return arr

@@ -12,33 +12,51 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fusioncenter import _validate as _v
 from fusioncenter.riccati import measurement_update
 
 __all__ = ["LinearGaussianModel", "constant_velocity"]
 
 
 def _matrix(name: str, value, shape: tuple[int, int] | None = None) -> np.ndarray:
-    arr = np.atleast_2d(np.asarray(value, dtype=float))
+    arr = np.atleast_2d(_v.finite(name, value))
     if arr.ndim != 2:
         raise ValueError(f"{name} must be a matrix, got shape {arr.shape}")
     if shape is not None and arr.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
     return arr
 
 
 def _covariance(name: str, value, n: int) -> np.ndarray:
-    arr = _matrix(name, value, (n, n))
-    if not np.allclose(arr, arr.T, rtol=1e-12, atol=1e-12):
-        raise ValueError(f"{name} must be symmetric")
-    if np.linalg.eigvalsh(arr).min() < -1e-12 * max(1.0, np.abs(arr).max()):
-        raise ValueError(f"{name} must be positive semi-definite")
-    return arr
+    return _v.covariance(name, _matrix(name, value, (n, n)))
 
 
 @dataclass(frozen=True)
 class LinearGaussianModel:
+    """``x_{k+1} = A x_k + w_k``, ``y_k = C x_k + v_k``, ``x_0 ~ N(m0, P0)``.
+
+    Parameters
+    ----------
+    A : array_like
+        State transition ``(n, n)``, finite.
+    Q : array_like
+        Process-noise covariance ``(n, n)``, symmetric PSD (``0``: deterministic dynamics).
+    C : array_like
+        Measurement matrix ``(m, n)``, finite.
+    R : array_like
+        Measurement-noise covariance ``(m, m)``, symmetric PSD (``0``: noise-free sensors; the
+        filter then uses the limit of the Kalman gain as ``R -> 0``).
+    m0 : array_like
+        Prior mean of ``x_0``, length ``n``.
+    P0 : array_like
+        Prior covariance of ``x_0`` ``(n, n)``, symmetric PSD.
+
+    Raises
+    ------
+    ValueError
+        Naming the field that is not finite, has the wrong shape, or is not a covariance.
+    """
+
     A: np.ndarray
     Q: np.ndarray
     C: np.ndarray
@@ -59,9 +77,7 @@ class LinearGaussianModel:
         object.__setattr__(self, "C", C)
         object.__setattr__(self, "Q", _covariance("Q", self.Q, n))
         object.__setattr__(self, "R", _covariance("R", self.R, m))
-        if np.linalg.eigvalsh(self.R).min() <= 0:
-            raise ValueError("R must be positive definite")
-        m0 = np.asarray(self.m0, dtype=float).reshape(-1)
+        m0 = _v.finite("m0", self.m0).reshape(-1)
         if m0.shape != (n,):
             raise ValueError(f"m0 must have length {n}, got {m0.shape}")
         object.__setattr__(self, "m0", m0)
@@ -76,9 +92,31 @@ class LinearGaussianModel:
         return self.C.shape[0]
 
     def sample(self, rng: np.random.Generator, n: int, steps: int):
-        """Draw ``n`` independent trajectories: ``(x, y)`` shaped ``(n, steps+1, nx|ny)``."""
-        if steps < 0:
-            raise ValueError(f"steps must be >= 0, got {steps}")
+        """Draw ``n`` independent trajectories: ``(x, y)`` shaped ``(n, steps+1, nx|ny)``.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The source of randomness.
+        n : int
+            Number of trajectories, ``>= 1``.
+        steps : int
+            Number of transitions, ``>= 0``.
+
+        Returns
+        -------
+        x, y : numpy.ndarray
+            States ``(n, steps + 1, nx)`` and measurements ``(n, steps + 1, ny)``.
+
+        Raises
+        ------
+        ValueError
+            If ``rng`` is not a Generator, or ``n`` or ``steps`` is not an integer in range.
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise ValueError(f"rng must be a numpy.random.Generator, got {rng!r}")
+        n = _v.posint("n", n)
+        steps = _v.integer("steps", steps, 0)
         lq = _psd_factor(self.Q)
         lr = _psd_factor(self.R)
         l0 = _psd_factor(self.P0)
@@ -95,8 +133,25 @@ class LinearGaussianModel:
         Returns ``(xhat, P)``: filtered means ``(n, steps+1, nx)`` and the filtered covariances
         ``P_{k|k}`` shaped ``(steps+1, nx, nx)`` (the same for every trial: the gains do not depend
         on the data).
+
+        Parameters
+        ----------
+        y : array_like
+            Measurements ``(trials, steps + 1, ny)``, finite.
+
+        Returns
+        -------
+        xhat : numpy.ndarray
+            Filtered means ``(trials, steps + 1, nx)``.
+        P : numpy.ndarray
+            Filtered covariances ``(steps + 1, nx, nx)``.
+
+        Raises
+        ------
+        ValueError
+            If ``y`` is not finite or has the wrong shape.
         """
-        y = np.asarray(y, dtype=float)
+        y = _v.finite("y", y)
         if y.ndim != 3 or y.shape[2] != self.ny:
             raise ValueError(f"y must be shaped (trials, steps+1, {self.ny}), got {y.shape}")
         n, T1, _ = y.shape
@@ -106,7 +161,10 @@ class LinearGaussianModel:
         P = self.P0
         for k in range(T1):
             S = self.C @ P @ self.C.T + self.R
-            K = np.linalg.solve(S, self.C @ P).T
+            try:
+                K = np.linalg.solve(S, self.C @ P).T
+            except np.linalg.LinAlgError:  # R singular and C P C^T too: the R -> 0 limit
+                K = (np.linalg.pinv(S, hermitian=True) @ (self.C @ P)).T
             innov = y[:, k] - m @ self.C.T
             post_m = m + innov @ K.T
             post_P = measurement_update(P, self.C, self.R)
@@ -128,11 +186,32 @@ def constant_velocity(dt: float = 1.0, q: float = 1.0, r: float = 1.0,
     """Position–velocity model with white-noise acceleration (intensity ``q``), position measured.
 
     ``Q = q [[dt^3/3, dt^2/2], [dt^2/2, dt]]``, ``C = [1, 0]``, ``R = r``.
+
+    Parameters
+    ----------
+    dt : float
+        Sampling period, ``> 0``.
+    q : float
+        Acceleration-noise intensity, ``>= 0``.
+    r : float
+        Position-measurement noise variance, ``>= 0`` (``0``: a noise-free sensor).
+    m0 : array_like
+        Prior mean ``[position, velocity]``.
+    P0 : array_like, optional
+        Prior covariance (default ``diag(10, 1)``).
+
+    Returns
+    -------
+    LinearGaussianModel
+
+    Raises
+    ------
+    ValueError
+        If ``dt`` is not positive, ``q`` or ``r`` negative, or any argument not finite.
     """
-    if dt <= 0:
-        raise ValueError(f"dt must be positive, got {dt}")
-    if q < 0 or r <= 0:
-        raise ValueError(f"q must be >= 0 and r > 0, got q={q}, r={r}")
+    dt = float(_v.positive("dt", dt, "a sampling period"))
+    q = float(_v.nonneg("q", q, "a noise intensity"))
+    r = float(_v.nonneg("r", r, "a noise variance"))
     A = np.array([[1.0, dt], [0.0, 1.0]])
     Q = q * np.array([[dt**3 / 3, dt**2 / 2], [dt**2 / 2, dt]])
     P0 = np.diag([10.0, 1.0]) if P0 is None else P0

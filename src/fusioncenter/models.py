@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from fusioncenter import _validate as _v
 from fusioncenter.kalman import LinearGaussianModel
 
 __all__ = ["tracking_model"]
@@ -36,22 +37,41 @@ def tracking_model(n_sensors: int = 2, *, dt: float = 1.0, sigma2: float = 4.0, 
     [0 10]" literally: ``x_0 = [0, 10]`` is known, ``P0 = 0`` (pass ``P0`` to change it; ``x0``
     is then the prior mean). We measure at every step ``k = 0..steps`` (the library's
     convention); the paper's 20 steps are ``steps = 19``.
+
+    Parameters
+    ----------
+    n_sensors : int
+        Number of sensors, ``>= 1`` (a NumPy integer is accepted, ``True`` is not).
+    dt : float
+        Sampling period, ``> 0``.
+    sigma2 : float
+        Acceleration-noise variance, ``>= 0`` (``0``: a deterministic constant velocity).
+    r : float
+        Each sensor's noise variance, ``>= 0`` (``0``: noise-free sensors).
+    x0 : array_like
+        Prior mean ``[position, velocity]`` of ``x_0``.
+    P0 : array_like, optional
+        Prior covariance of ``x_0`` (default ``0``: known).
+
+    Returns
+    -------
+    LinearGaussianModel
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is out of range, not finite, or of the wrong shape.
     """
-    if isinstance(n_sensors, bool) or not isinstance(n_sensors, int | np.integer) \
-            or n_sensors < 1:
-        raise ValueError(f"n_sensors must be a positive integer, got {n_sensors!r}")
-    if not np.isfinite(dt) or dt <= 0:
-        raise ValueError(f"dt must be positive, got {dt}")
-    if not np.isfinite(sigma2) or sigma2 < 0:
-        raise ValueError(f"sigma2 must be non-negative (a variance), got {sigma2}")
-    if not np.isfinite(r) or r <= 0:
-        raise ValueError(f"r must be positive (a noise variance), got {r}")
+    n_sensors = _v.posint("n_sensors", n_sensors)
+    dt = float(_v.positive("dt", dt, "a sampling period"))
+    sigma2 = float(_v.nonneg("sigma2", sigma2, "a variance"))
+    r = float(_v.nonneg("r", r, "a noise variance"))
     A = np.array([[1.0, dt], [0.0, 1.0]])
     Q = sigma2 * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]])
     C = np.tile([1.0, 0.0], (int(n_sensors), 1))
     R = r * np.eye(int(n_sensors))
-    x0 = np.asarray(x0, dtype=float)
-    if x0.shape != (2,) or not np.all(np.isfinite(x0)):
+    x0 = _v.finite("x0", x0)
+    if x0.shape != (2,):
         raise ValueError(f"x0 must be a finite [position, velocity] pair, got {x0!r}")
     P0 = np.zeros((2, 2)) if P0 is None else np.asarray(P0, dtype=float)
     return LinearGaussianModel(A=A, Q=Q, C=C, R=R, m0=x0, P0=P0)

@@ -47,6 +47,9 @@ from typing import Protocol
 
 import numpy as np
 
+from fusioncenter._validate import covariance as _covariance
+from fusioncenter._validate import finite as _finite
+
 __all__ = [
     "log_normalize",
     "ess",
@@ -183,8 +186,30 @@ def psd_factor(M, *, rtol: float = 1e-12) -> np.ndarray:
     Eigenvalues below ``rtol * max(eig)`` are treated as zero and their columns dropped, so a
     rank-deficient ``M`` (e.g. zheng2014's white-noise-acceleration ``Q``, rank 1) is sampled with
     ``rank`` normals per draw. ``M = 0`` gives a ``d x 0`` factor.
+
+    Parameters
+    ----------
+    M : array_like
+        A covariance ``(d, d)``: finite, symmetric and positive semi-definite (tolerances of
+        :func:`fusioncenter._validate.covariance`).
+    rtol : float
+        Relative threshold below which an eigenvalue counts as zero, in ``[0, 1)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``L`` shaped ``(d, rank)``.
+
+    Raises
+    ------
+    ValueError
+        If ``M`` is not finite, not square, not symmetric or not PSD, or ``rtol`` is out of
+        range.
     """
-    M = np.asarray(M, dtype=float)
+    M = _covariance("M", M)
+    rtol = float(_finite("rtol", rtol))
+    if not 0.0 <= rtol < 1.0:
+        raise ValueError(f"rtol must lie in [0, 1), got {rtol!r}")
     w, V = np.linalg.eigh(0.5 * (M + M.T))
     top = max(float(w.max(initial=0.0)), 0.0)
     keep = w > rtol * top if top > 0 else np.zeros_like(w, dtype=bool)

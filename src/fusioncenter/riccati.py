@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from fusioncenter import _validate as _v
+
 __all__ = [
     "scalar_update",
     "scalar_step",
@@ -31,12 +33,23 @@ __all__ = [
 
 
 def _nonneg(name: str, value) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
-    if np.any(~np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
-    if np.any(arr < 0):
-        raise ValueError(f"{name} must be non-negative (it is a variance)")
-    return arr
+    return _v.nonneg(name, value, "it is a variance")
+
+
+def _steps(steps) -> int:
+    if isinstance(steps, bool):
+        raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+    try:
+        ok = int(steps) == steps and steps >= 0
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+    return int(steps)
+
+
+def _out(arr: np.ndarray):
+    return arr[()] if arr.ndim == 0 else arr
 
 
 # ---------------------------------------------------------------------------- scalar
@@ -44,30 +57,101 @@ def scalar_update(p, c, r):
     """Posterior variance after observing ``y = c x + v``: ``p r / (c^2 p + r)``.
 
     Written in this form (not ``p - p^2 c^2 / (c^2 p + r)``) to avoid cancellation; ``r = 0``
-    with ``c != 0`` gives 0, ``c = 0`` gives ``p``.
+    with ``c != 0`` gives 0 (a noise-free measurement), ``c = 0`` gives ``p``. Where ``c^2 p``
+    or ``p r`` overflow, the equivalent ``1 / (1/p + c^2/r)`` is used. Broadcasts like a ufunc.
+
+    Parameters
+    ----------
+    p : array_like
+        Prior variance(s), ``>= 0``.
+    c : array_like
+        Measurement gain(s), finite.
+    r : array_like
+        Measurement-noise variance(s), ``>= 0``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The posterior variance(s), in ``[0, p]``.
+
+    Raises
+    ------
+    ValueError
+        If ``p`` or ``r`` is negative, or any argument is NaN or infinite.
     """
     p = _nonneg("p", p)
+    c = _v.finite("c", c)
     r = _nonneg("r", r)
-    c2 = np.asarray(c, dtype=float) ** 2
-    den = c2 * p + r
+    c2 = c**2
+    with np.errstate(over="ignore"):
+        den = c2 * p + r
+        num = p * r
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.where(den > 0, p * r / np.where(den > 0, den, 1.0), 0.0)
-    return out[()] if out.ndim == 0 else out
+        out = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+        bad = ~np.isfinite(out)
+        if np.any(bad):  # overflow of c^2 p or p r: the harmonic form has no large products
+            harm = 1.0 / (1.0 / p + c2 / r)
+            out = np.where(bad, np.minimum(harm, p), out)
+    return _out(out)
 
 
 def scalar_step(p, a, q, c, r):
-    """One Riccati step for a scalar state: ``a^2 * scalar_update(p, c, r) + q``."""
+    """One Riccati step for a scalar state: ``a^2 * scalar_update(p, c, r) + q``.
+
+    Parameters
+    ----------
+    p : array_like
+        Prediction variance(s) ``p_{k|k-1}``, ``>= 0``.
+    a : array_like
+        State transition(s), finite.
+    q : array_like
+        Process-noise variance(s), ``>= 0``.
+    c, r : array_like
+        As in :func:`scalar_update`.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``p_{k+1|k}``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN, infinite or (a variance) negative, or if the result overflows.
+    """
+    a = _v.finite("a", a)
     q = _nonneg("q", q)
-    return np.asarray(a, dtype=float) ** 2 * scalar_update(p, c, r) + q
+    with np.errstate(over="ignore"):
+        out = a**2 * scalar_update(p, c, r) + q
+    return _v.finite_result("p_{k+1}", out, "a^2 p overflows the float range")[()]
 
 
 def scalar_sequence(p0, a, q, c, r, steps: int) -> np.ndarray:
-    """``[p_0, p_1, ..., p_steps]`` of the scalar recursion (broadcast over array arguments)."""
-    if int(steps) != steps or steps < 0:
-        raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+    """``[p_0, p_1, ..., p_steps]`` of the scalar recursion (broadcast over array arguments).
+
+    Parameters
+    ----------
+    p0 : array_like
+        Initial prediction variance(s), ``>= 0``.
+    a, q, c, r : array_like
+        As in :func:`scalar_step`.
+    steps : int
+        Number of steps, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shaped ``(steps + 1, *broadcast_shape)``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`scalar_step`; also if ``steps`` is not a non-negative integer.
+    """
+    steps = _steps(steps)
     p = np.asarray(_nonneg("p0", p0), dtype=float)
     out = [p]
-    for _ in range(int(steps)):
+    for _ in range(steps):
         p = np.asarray(scalar_step(p, a, q, c, r))
         out.append(p)
     return np.stack(np.broadcast_arrays(*out))
@@ -76,32 +160,71 @@ def scalar_sequence(p0, a, q, c, r, steps: int) -> np.ndarray:
 def scalar_steady_state(a, q, c, r):
     """Positive fixed point of :func:`scalar_step` (prediction variance).
 
-    It is the positive root of ``c^2 p^2 + (r (1 - a^2) - q c^2) p - q r = 0``. With ``c = 0``
-    (no information) it is ``q / (1 - a^2)``, finite only for ``|a| < 1``.
+    It is the positive root of ``c^2 p^2 + (r (1 - a^2) - q c^2) p - q r = 0`` (the stabilizing
+    one). Limits: ``r = 0`` gives ``q`` (a noise-free measurement); ``q = 0`` gives 0 for
+    ``|a| < 1`` and ``r (a^2 - 1) / c^2`` for ``|a| > 1``; ``c = 0`` (no information) gives
+    ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (else ``ValueError``). Where ``b^2`` of the quadratic
+    overflows, the root is computed with ``hypot`` (so ``c^2 = 1e160`` gives ``q``, not inf).
+
+    Parameters
+    ----------
+    a : array_like
+        State transition(s), finite.
+    q : array_like
+        Process-noise variance(s), ``>= 0``.
+    c : array_like
+        Measurement gain(s), finite.
+    r : array_like
+        Measurement-noise variance(s), ``>= 0``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The steady-state prediction variance(s), finite and ``>= q``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN, infinite or (a variance) negative, or if ``c = 0`` with
+        ``|a| >= 1`` (no steady state: the variance does not converge).
     """
-    a = np.asarray(a, dtype=float)
+    a = _v.finite("a", a)
     q = _nonneg("q", q)
+    c = _v.finite("c", c)
     r = _nonneg("r", r)
-    c2 = np.asarray(c, dtype=float) ** 2
-    b = r * (1.0 - a**2) - q * c2
-    disc = np.sqrt(b**2 + 4.0 * c2 * q * r)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    c2 = c**2
+    with np.errstate(over="ignore", invalid="ignore"):
+        b = r * (1.0 - a**2) - q * c2
+        disc = np.sqrt(b**2 + 4.0 * c2 * q * r)
+        if not np.all(np.isfinite(disc)):  # b^2 or c^2 q r overflowed
+            disc = np.where(np.isfinite(disc), disc, np.hypot(b, 2.0 * np.sqrt(c2 * q * r)))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         # Stable root of the quadratic: avoid subtracting nearly equal numbers.
         root_pos_b = np.where(b > 0, 2.0 * q * r / np.where(b + disc > 0, b + disc, 1.0), 0.0)
         root_neg_b = np.where(c2 > 0, (disc - b) / (2.0 * np.where(c2 > 0, c2, 1.0)), 0.0)
         p = np.where(b > 0, root_pos_b, root_neg_b)
+        if not np.all(np.isfinite(p) | (c2 == 0)):
+            # c^2 or b overflowed: scale the quadratic by 1/c^2 (terms of order q and r/c^2)
+            inv = 1.0 / c2
+            bs = r * (1.0 - a**2) * inv - q
+            ds = np.hypot(bs, 2.0 * np.sqrt(q * r * inv))
+            ps = np.where(bs > 0, 2.0 * q * r * inv / np.where(bs + ds > 0, bs + ds, 1.0),
+                          (ds - bs) / 2.0)
+            p = np.where(np.isfinite(p), p, ps)
         no_obs = q / (1.0 - a**2)
-        p = np.where(c2 > 0, p, np.where(np.abs(a) < 1, no_obs, np.inf))
-    return p[()] if p.ndim == 0 else p
+        if np.any((c2 == 0) & (np.abs(a) >= 1)):
+            raise ValueError("c must be non-zero when |a| >= 1: without measurements the "
+                             "variance of an unstable (or marginally stable) state does not "
+                             "converge, there is no steady state")
+        p = np.where(c2 > 0, p, np.where(np.abs(a) < 1, no_obs, 0.0))
+    return _out(_v.finite_result("the steady-state variance", p, "an input is too large"))
 
 
 # ---------------------------------------------------------------------------- matrix
 def _as_matrix(name: str, value, ndim_min: int = 2) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
+    arr = _v.finite(name, value)
     if arr.ndim < ndim_min:
         raise ValueError(f"{name} must be at least {ndim_min}-D (..., rows, cols), got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
     return arr
 
 
@@ -114,33 +237,96 @@ def _sym(m: np.ndarray) -> np.ndarray:
     return 0.5 * (m + np.swapaxes(m, -1, -2))
 
 
-def measurement_update(P, C, R) -> np.ndarray:
-    """``P - P C^T (C P C^T + R)^{-1} C P`` (batched), symmetrized."""
-    P = _as_matrix("P", P)
-    C = _as_matrix("C", C)
-    R = _as_matrix("R", R)
-    _check_square("P", P)
-    _check_square("R", R)
-    if C.shape[-1] != P.shape[-1]:
-        raise ValueError(f"C has {C.shape[-1]} columns but P is {P.shape[-1]}x{P.shape[-1]}")
-    if R.shape[-1] != C.shape[-2]:
-        raise ValueError(f"R is {R.shape[-1]}x{R.shape[-1]} but C has {C.shape[-2]} rows")
+def _solve_psd(S: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """``S^{-1} B`` for PSD ``S``; a singular ``S`` (noise-free sensors measuring known
+    directions) uses the pseudo-inverse, the limit of the Kalman gain as ``R -> 0``."""
+    try:
+        return np.linalg.solve(S, B)
+    except np.linalg.LinAlgError:
+        return np.linalg.pinv(S, hermitian=True) @ B
+
+
+def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray) -> np.ndarray:
     Ct = np.swapaxes(C, -1, -2)
     PCt = P @ Ct
     S = C @ PCt + R
     # K^T = S^{-1} (P C^T)^T, solved rather than inverted.
-    Kt = np.linalg.solve(S, np.swapaxes(PCt, -1, -2))
+    Kt = _solve_psd(S, np.swapaxes(PCt, -1, -2))
     return _sym(P - PCt @ Kt)
 
 
+def _check_update_shapes(P, C, R) -> None:
+    if C.shape[-1] != P.shape[-1]:
+        raise ValueError(f"C has {C.shape[-1]} columns but P is {P.shape[-1]}x{P.shape[-1]}")
+    if R.shape[-1] != C.shape[-2]:
+        raise ValueError(f"R is {R.shape[-1]}x{R.shape[-1]} but C has {C.shape[-2]} rows")
+
+
+def measurement_update(P, C, R) -> np.ndarray:
+    """``P - P C^T (C P C^T + R)^{-1} C P`` (batched), symmetrized.
+
+    ``R`` may be singular (noise-free sensors, ``R = 0``): where ``C P C^T + R`` is singular the
+    pseudo-inverse gives the limit of the update as ``R -> 0``.
+
+    Parameters
+    ----------
+    P : array_like
+        Prior covariance(s) ``(..., n, n)``, symmetric positive semi-definite.
+    C : array_like
+        Measurement matrix (matrices) ``(..., m, n)``, finite.
+    R : array_like
+        Measurement-noise covariance(s) ``(..., m, m)``, symmetric positive semi-definite.
+
+    Returns
+    -------
+    numpy.ndarray
+        The posterior covariance(s), the broadcast of the batch axes ``(..., n, n)``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not finite, has the wrong shape, or ``P`` or ``R`` is not symmetric
+        positive semi-definite (tolerances of :func:`fusioncenter._validate.covariance`).
+    """
+    P = _v.covariance("P", P, batch=True)
+    C = _as_matrix("C", C)
+    R = _v.covariance("R", R, batch=True)
+    _check_update_shapes(P, C, R)
+    return _update(P, C, R)
+
+
 def riccati_step(P, A, Q, C, R) -> np.ndarray:
-    """One step ``P_{k+1|k} = A P_{k|k} A^T + Q``, ``P_{k|k}`` from :func:`measurement_update`."""
+    """One step ``P_{k+1|k} = A P_{k|k} A^T + Q``, ``P_{k|k}`` from :func:`measurement_update`.
+
+    Parameters
+    ----------
+    P : array_like
+        Prediction covariance(s) ``(..., n, n)``, symmetric PSD.
+    A : array_like
+        State transition(s) ``(..., n, n)``, finite.
+    Q : array_like
+        Process-noise covariance(s) ``(..., n, n)``, symmetric PSD.
+    C, R : array_like
+        As in :func:`measurement_update`.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``P_{k+1|k}`` ``(..., n, n)``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`measurement_update`; also if ``A`` or ``Q`` is not finite and square, ``Q``
+        not PSD, or the result overflows.
+    """
     A = _as_matrix("A", A)
-    Q = _as_matrix("Q", Q)
     _check_square("A", A)
-    _check_square("Q", Q)
+    Q = _v.covariance("Q", Q, batch=True)
     post = measurement_update(P, C, R)
-    return _sym(A @ post @ np.swapaxes(A, -1, -2) + Q)
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = _sym(A @ post @ np.swapaxes(A, -1, -2) + Q)
+    return _v.finite_result("P_{k+1|k}", out, "A P A^T overflows the float range")
 
 
 def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) -> np.ndarray:
@@ -148,12 +334,33 @@ def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) 
 
     With ``time_varying=True``, ``C`` and ``R`` carry a leading time axis of length ``steps``
     (``C[k]``, ``R[k]`` are used at step ``k``), e.g. random measurement gains of a fading channel.
+
+    Parameters
+    ----------
+    P0 : array_like
+        Initial prediction covariance(s) ``(..., n, n)``, symmetric PSD.
+    A, Q, C, R : array_like
+        As in :func:`riccati_step` (``C``, ``R`` with a leading time axis if ``time_varying``).
+    steps : int
+        Number of steps, ``>= 0``.
+    time_varying : bool
+        Whether ``C`` and ``R`` carry a leading time axis.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shaped ``(steps + 1, ..., n, n)``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`riccati_step`; also if ``steps`` is not a non-negative integer or the time
+        axis does not have length ``steps``.
     """
-    if int(steps) != steps or steps < 0:
-        raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
-    P = _as_matrix("P0", P0)
-    C = np.asarray(C, dtype=float)
-    R = np.asarray(R, dtype=float)
+    steps = _steps(steps)
+    P = _v.covariance("P0", P0, batch=True)
+    C = _v.finite("C", C)
+    R = _v.finite("R", R)
     if time_varying:
         for name, arr in (("C", C), ("R", R)):
             if arr.ndim < 3 or arr.shape[0] != steps:
@@ -162,7 +369,7 @@ def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) 
                     f"got {arr.shape}"
                 )
     out = [P]
-    for k in range(int(steps)):
+    for k in range(steps):
         Ck, Rk = (C[k], R[k]) if time_varying else (C, R)
         P = riccati_step(P, A, Q, Ck, Rk)
         out.append(P)
@@ -173,17 +380,50 @@ def steady_state(A, Q, C, R) -> np.ndarray:
     """Stabilizing solution of the discrete algebraic Riccati equation (prediction form).
 
     Uses :func:`scipy.linalg.solve_discrete_are` on the dual system ``(A^T, C^T)``; raises
-    ``ValueError`` when no stabilizing solution exists (e.g. (A, C) not detectable).
+    ``ValueError`` when no stabilizing solution exists (e.g. (A, C) not detectable). ``R`` may
+    be singular (noise-free sensors) when the solver finds the solution.
+
+    Parameters
+    ----------
+    A : array_like
+        State transition ``(n, n)``, finite.
+    Q : array_like
+        Process-noise covariance ``(n, n)``, symmetric PSD.
+    C : array_like
+        Measurement matrix ``(m, n)``, finite.
+    R : array_like
+        Measurement-noise covariance ``(m, m)``, symmetric PSD.
+
+    Returns
+    -------
+    numpy.ndarray
+        The steady-state prediction covariance ``(n, n)``, symmetric PSD and finite.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not finite or 2-D, has inconsistent shapes, ``Q`` or ``R`` is not
+        symmetric PSD, or no finite stabilizing PSD solution exists.
     """
     A = _as_matrix("A", A)
-    Q = _as_matrix("Q", Q)
     C = _as_matrix("C", C)
-    R = _as_matrix("R", R)
     for name, arr in (("A", A), ("Q", Q), ("C", C), ("R", R)):
-        if arr.ndim != 2:
-            raise ValueError(f"{name} must be a 2-D matrix for steady_state, got {arr.shape}")
+        if np.ndim(arr) != 2:
+            raise ValueError(f"{name} must be a 2-D matrix for steady_state, got shape "
+                             f"{np.shape(arr)}")
+    Q = _v.covariance("Q", Q)
+    R = _v.covariance("R", R)
+    _check_square("A", A)
+    if Q.shape != A.shape:
+        raise ValueError(f"Q must be {A.shape[0]}x{A.shape[0]} (as A), got {Q.shape}")
+    _check_update_shapes(A, C, R)
     try:
         P = scipy.linalg.solve_discrete_are(A.T, C.T, Q, R)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ValueError(f"no stabilizing Riccati solution for these (A, Q, C, R): {exc}") from exc
-    return _sym(P)
+    P = _sym(P)
+    try:
+        _v.covariance("the Riccati solution", P)
+    except ValueError as exc:
+        raise ValueError(f"no stabilizing Riccati solution for these (A, Q, C, R): {exc}") from exc
+    return P
