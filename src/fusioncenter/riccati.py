@@ -164,7 +164,7 @@ def scalar_steady_state(a, q, c, r):
     one). Limits: ``r = 0`` gives ``q`` (a noise-free measurement); ``q = 0`` gives 0 for
     ``|a| < 1`` and ``r (a^2 - 1) / c^2`` for ``|a| > 1``; ``c = 0`` (no information) gives
     ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (else ``ValueError``). Where ``b^2`` of the quadratic
-    overflows, the root is computed with ``hypot`` (so ``c^2 = 1e160`` gives ``q``, not inf).
+    overflows, the root is computed with ``hypot`` (``c^2 = 1e160`` gives ``q``, not inf).
 
     Parameters
     ----------
