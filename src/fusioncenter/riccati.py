@@ -163,8 +163,9 @@ def scalar_steady_state(a, q, c, r):
     It is the positive root of ``c^2 p^2 + (r (1 - a^2) - q c^2) p - q r = 0`` (the stabilizing
     one). Limits: ``r = 0`` gives ``q`` (a noise-free measurement); ``q = 0`` gives 0 for
     ``|a| < 1`` and ``r (a^2 - 1) / c^2`` for ``|a| > 1``; ``c = 0`` (no information) gives
-    ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (else ``ValueError``). Where ``b^2`` of the quadratic
-    overflows, the root is computed with ``hypot`` (``c^2 = 1e160`` gives ``q``, not inf).
+    ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (else ``ValueError``). Where ``b^2``
+    of the quadratic overflows, the root is computed with ``hypot`` (``c^2 = 1e160`` gives
+    ``q``, not inf).
 
     Parameters
     ----------
