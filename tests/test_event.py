@@ -502,7 +502,7 @@ def test_tracking_model_has_the_papers_values():
     np.testing.assert_array_equal(model.m0, [0, 10])
     np.testing.assert_array_equal(model.P0, np.zeros((2, 2)))
     for bad, match in [({"n_sensors": 0}, "n_sensors"), ({"dt": 0.0}, "dt"),
-                       ({"sigma2": -1.0}, "sigma2"), ({"r": 0.0}, "r must be positive"),
+                       ({"sigma2": -1.0}, "sigma2"), ({"r": -1.0}, "r must be non-negative"),
                        ({"x0": (1.0, 2.0, 3.0)}, "x0")]:
         with pytest.raises(ValueError, match=match):
             tracking_model(**bad)
@@ -517,8 +517,8 @@ _GOOD = dict(xbar=np.zeros(2), Sigma=_SIGMA, C=_C, R=np.ones(3), delta=np.ones(3
 
 @pytest.mark.parametrize("change, match", [
     ({"Sigma": np.array([[2.0, 0.5], [0.4, 1.0]])}, "Sigma must be symmetric"),
-    ({"Sigma": np.array([[1.0, 2.0], [2.0, 1.0]])}, "Sigma must be positive definite"),
-    ({"Sigma": np.zeros((2, 2))}, "Sigma must be positive definite"),
+    ({"Sigma": np.array([[1.0, 2.0], [2.0, 1.0]])}, "Sigma must be positive semi-definite"),
+    # Sigma = 0 (a known state) is a legitimate limit: test_event_limits
     ({"Sigma": np.eye(3)}, "Sigma must be 2x2"),
     ({"Sigma": np.array([[np.nan, 0], [0, 1]])}, "Sigma must be finite"),
     ({"C": np.ones(3)}, "C must be a 2-D matrix"),
@@ -544,7 +544,7 @@ def test_posterior_validation(change, match):
 
 @pytest.mark.parametrize("change, match", [
     ({"Sigma": np.array([[2.0, 0.5], [0.4, 1.0]])}, "Sigma must be symmetric"),
-    ({"Sigma": -np.eye(2)}, "Sigma must be positive definite"),
+    ({"Sigma": -np.eye(2)}, "Sigma must be positive semi-definite"),
     ({"R": np.array([[1.0, 0.1, 0], [0.1, 1, 0], [0, 0, 1]])}, "R must be diagonal"),
     ({"R": -np.ones(3)}, "R must be non-negative"),
     ({"delta": np.zeros(3)}, "delta must be positive"),

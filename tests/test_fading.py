@@ -494,7 +494,7 @@ def test_seed_changes_the_draws_and_mc_wraps_paths():
 @pytest.mark.parametrize("kwargs, name", [
     ({"sigma_w2": -1.0}, "sigma_w2"),
     ({"sigma_v2": -1.0}, "sigma_v2"),
-    ({"sigma_v2": 0.0}, "sigma_v2"),
+    ({"sigma_v2": np.nan}, "sigma_v2"),  # 0 is a legitimate limit (test_fading_limits)
     ({"sigma_n2": -4.0}, "sigma_n2"),
     ({"p0": -1.0}, "p0"),
     ({"steps": -1}, "steps"),

@@ -57,6 +57,7 @@ import numpy as np
 import scipy.optimize
 
 from fusioncenter import riccati
+from fusioncenter._validate import covariance as _psd
 from fusioncenter._validate import finite as _finite
 from fusioncenter.kalman import LinearGaussianModel
 
@@ -130,21 +131,15 @@ def _noise_variances(R, m: int) -> np.ndarray:
 
 
 def _covariance(name: str, value, n: int | None = None) -> np.ndarray:
-    """Symmetric positive definite ``(..., n, n)``; returned symmetrized."""
+    """Symmetric positive semi-definite ``(..., n, n)`` (singular is fine: a known component);
+    returned symmetrized."""
     arr = _finite(name, value)
     if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2]:
         raise ValueError(f"{name} must be a square matrix (..., n, n), got shape {arr.shape}")
     if n is not None and arr.shape[-1] != n:
         raise ValueError(f"{name} must be {n}x{n} (C has {n} columns), got {arr.shape}")
-    scale = max(1.0, float(np.abs(arr).max(initial=0.0)))
-    if np.any(np.abs(arr - np.swapaxes(arr, -1, -2)) > 1e-10 * scale):
-        raise ValueError(f"{name} must be symmetric")
-    arr = 0.5 * (arr + np.swapaxes(arr, -1, -2))
-    try:
-        np.linalg.cholesky(arr)
-    except np.linalg.LinAlgError:
-        raise ValueError(f"{name} must be positive definite") from None
-    return arr
+    arr = _psd(name, arr, batch=True)
+    return 0.5 * (arr + np.swapaxes(arr, -1, -2))
 
 
 def _gamma(value, m: int) -> np.ndarray:
@@ -299,7 +294,7 @@ def _posterior_core(xbar, Sigma, C, r, delta, gamma, y):
     SCt = Sigma @ C.T  # (..., n, m)
     S = C @ SCt + Rk
     innov = np.where(gamma, y, 0.0) - xbar @ C.T  # (..., m): NaN in silent entries never used
-    w = np.linalg.solve(S, innov[..., None])
+    w = riccati.solve_psd(S, innov[..., None])
     xhat = xbar + (SCt @ w)[..., 0]
     P = riccati.measurement_update(Sigma, C, Rk)
     return xhat, P
@@ -472,7 +467,7 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
             Rk = np.broadcast_to(r[:, None] * eye, (n, m, m))
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)  # (n, nx, m)
         S = Ck @ PCt + Rk
-        w = np.linalg.solve(S, np.where(g, z, 0.0)[:, :, None])  # S^{-1} Gamma z
+        w = riccati.solve_psd(S, np.where(g, z, 0.0)[:, :, None])  # S^{-1} Gamma z
         xpost = xpred + (PCt @ w)[:, :, 0]
         Pk = riccati.measurement_update(Ppred, Ck, Rk)
         xhat[:, k] = xpost

@@ -44,7 +44,9 @@ import scipy.optimize
 import scipy.special
 
 from fusioncenter import montecarlo
+from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import finite_result as _finite_result
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 
@@ -83,6 +85,17 @@ _CF_DEPTH = 64
 
 
 # ------------------------------------------------------------------------ special functions
+def _notnan(name: str, value) -> np.ndarray:
+    """Floats, no NaN (infinities are the documented limits of the special functions)."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number or array, got {value!r}") from None
+    if np.any(np.isnan(arr)):
+        raise ValueError(f"{name} must not be NaN, got {value!r}")
+    return arr
+
+
 def _cf_tail(x: np.ndarray, m: float, depth: int = _CF_DEPTH) -> np.ndarray:
     """``z^m U(m, m, z)`` for ``z >= 2`` by the Legendre continued fraction (backward, fixed depth).
 
@@ -102,9 +115,24 @@ def exp_e1(x):
     ``x >= 50`` the continued fraction
     ``e^x E1(x) = 1 / (x + 1 - 1 / (x + 3 - 4 / (x + 5 - 9 / (x + 7 - ...))))`` is used instead.
     Relative error below ``1e-15`` on ``[1e-8, 1e8]`` against mpmath (tested).
-    ``exp_e1(0) = inf``, ``exp_e1(inf) = 0``.
+    ``exp_e1(0) = inf`` (the integral diverges), ``exp_e1(inf) = 0``.
+
+    Parameters
+    ----------
+    x : array_like
+        Arguments ``>= 0`` (``+inf`` allowed: the limit 0).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``e^x E1(x)``, in ``(0, inf]``.
+
+    Raises
+    ------
+    ValueError
+        If an entry is NaN or negative.
     """
-    x = np.asarray(x, dtype=float)
+    x = _notnan("x", x)
     if np.any(x < 0):
         raise ValueError("x must be non-negative for exp_e1 (E1 of a negative argument is not "
                          "real)")
@@ -162,8 +190,8 @@ _VARIANCE = "it is a variance"
 
 def _shift(name: str, value) -> np.ndarray:
     """A non-negative shift ``b``; ``+inf`` is allowed (the limit of a noiseless channel)."""
-    arr = np.asarray(value, dtype=float)
-    if np.any(np.isnan(arr)) or np.any(arr < 0):
+    arr = _notnan(name, value)
+    if np.any(arr < 0):
         raise ValueError(f"{name} must be non-negative, got {value!r}")
     return arr
 
@@ -202,7 +230,7 @@ def _channel(channel):
 def _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps):
     return (_scalar("a", _finite("a", a)),
             _scalar("sigma_w2", _nonneg("sigma_w2", sigma_w2, _VARIANCE)),
-            _scalar("sigma_v2", _positive("sigma_v2", sigma_v2)),
+            _scalar("sigma_v2", _nonneg("sigma_v2", sigma_v2, _VARIANCE)),
             _scalar("sigma_n2", _positive("sigma_n2", sigma_n2)),
             _scalar("p0", _nonneg("p0", p0, _VARIANCE)),
             _int("steps", steps, 0))
@@ -237,7 +265,8 @@ class Rayleigh:
         return rng.standard_exponential(size) / self.lam
 
     def pdf(self, r):
-        r = np.asarray(r, dtype=float)
+        """The density of ``r`` (0 for ``r < 0``); ``r`` must not be NaN."""
+        r = _notnan("r", r)
         return np.where(r >= 0, self.lam * np.exp(-self.lam * np.maximum(r, 0.0)), 0.0)
 
     def inverse_mean(self, b):
@@ -294,7 +323,8 @@ class Nakagami:
         return rng.gamma(self.m, 1.0 / (self.lam * self.m), size)
 
     def pdf(self, r):
-        r = np.asarray(r, dtype=float)
+        """The density of ``r`` (0 for ``r <= 0``); ``r`` must not be NaN."""
+        r = _notnan("r", r)
         m, lam = self.m, self.lam
         rp = np.where(r > 0, r, 1.0)
         logp = (m * np.log(m * lam) + (m - 1) * np.log(rp) - lam * m * rp
@@ -355,6 +385,9 @@ def _scalar_chunk(rng, n, *, a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps
     """
     out = np.empty((steps + 1, n))
     out[0] = p0
+    if a == 0.0:  # p_{k+1} = sigma_w2 whatever the channel (the harmonic form divides by a^2)
+        out[1:] = sigma_w2
+        return out.T
     tmp = np.empty(n)
     a2, inv_a2 = a * a, 1.0 / (a * a)
     batch = max(1, _BATCH_ELEMENTS // max(n, 1))
@@ -384,7 +417,15 @@ def scalar_paths(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps, n_paths, s
     a, sw2, sv2, sn2, p0, steps = _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps)
     fn = functools.partial(_scalar_chunk, a=a, sigma_w2=sw2, sigma_v2=sv2, sigma_n2=sn2,
                            channel=_channel(channel), p0=p0, steps=steps)
-    return montecarlo.simulate(fn, _int("n_paths", n_paths, 1), _int("seed", seed, 0), **runner)
+    return _finite_paths(montecarlo.simulate(fn, _int("n_paths", n_paths, 1),
+                                             _int("seed", seed, 0), **runner))
+
+
+def _finite_paths(res):
+    """A Monte Carlo result whose variances stayed finite (else ``ValueError``)."""
+    _finite_result("p_k", res.samples, "the variance overflows the float range (|a| too large "
+                   "for this many steps)")
+    return res
 
 
 def scalar_mc(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps, n_paths, seed, **runner):
@@ -401,10 +442,14 @@ def expected_posterior(p, sigma_v2, sigma_n2, channel):
     Equals ``p (sigma_v2 + p g(b)) / (p + sigma_v2)`` with ``b = sigma_n2 / (p + sigma_v2)``.
     """
     p = _nonneg("p", p, _VARIANCE)
-    sv2 = _positive("sigma_v2", sigma_v2)
+    sv2 = _nonneg("sigma_v2", sigma_v2, _VARIANCE)
     sn2 = _positive("sigma_n2", sigma_n2)
-    g = _channel(channel).ratio_mean(sn2 / (p + sv2))
-    return p * (sv2 + p * g) / (p + sv2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = _channel(channel).ratio_mean(sn2 / (p + sv2))
+        out = p * (sv2 + p * g) / (p + sv2)
+    # p = sigma_v2 = 0: a known state stays known (the limit of the formula, 0)
+    out = np.where((p + sv2) == 0, 0.0, out)
+    return out[()] if out.ndim == 0 else out
 
 
 def _loose_map(a, sw2, sv2, sn2, channel) -> Callable[[float], float]:
@@ -440,10 +485,12 @@ def _tight_map(a, sw2, sv2, sn2, channel) -> Callable[[float], float]:
 def _iterate(fn: Callable[[float], float], x0: float, steps: int) -> np.ndarray:
     out = np.empty(steps + 1)
     out[0] = x = x0
-    for k in range(steps):
-        x = float(fn(x))
-        out[k + 1] = x
-    return out
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(steps):
+            x = float(fn(x))
+            out[k + 1] = x
+    return _finite_result("the bound", out, "it overflows the float range (|a| too large for "
+                          "this many steps)")
 
 
 def _fixed_point(fn: Callable[[float], float], lo: float) -> float:
@@ -503,7 +550,7 @@ def _multi_args(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps):
     if access not in ACCESS_SCHEMES:
         raise ValueError(f"access must be one of {ACCESS_SCHEMES}, got {access!r}")
     c = _finite("c", c)
-    sv2 = _positive("sigma_v2", sigma_v2)
+    sv2 = _nonneg("sigma_v2", sigma_v2, _VARIANCE)
     lams = _positive("lams", lams, "1 / mean power gain of each sensor's channel")
     for name, arr in (("c", c), ("sigma_v2", sv2), ("lams", lams)):
         if arr.ndim != 1 or arr.size == 0:
@@ -567,7 +614,8 @@ def multisensor_paths(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, step
         access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps)
     fn = functools.partial(_multi_chunk, access=access, a=a, c=c, sigma_v2=sv2, sigma_n2=sn2,
                            lams=lams, sigma_w2=sw2, p0=p0, steps=steps)
-    return montecarlo.simulate(fn, _int("n_paths", n_paths, 1), _int("seed", seed, 0), **runner)
+    return _finite_paths(montecarlo.simulate(fn, _int("n_paths", n_paths, 1),
+                                             _int("seed", seed, 0), **runner))
 
 
 def multisensor_mc(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps, n_paths, seed,
@@ -582,8 +630,11 @@ def _ratio_expect(alpha, beta, x, y, lam):
     """``E[(alpha r + x) / (beta r + y)]`` for ``r ~ Exp(lam)`` (``beta, y > 0``).
 
     ``= alpha / beta + (x - alpha y / beta) / beta * E[1 / (r + y / beta)]``; in the paper's
-    notation ``sigma^2 / (c^2 g + sigma^2) [1 + (A - B) e^B E1(B)]``.
+    notation ``sigma^2 / (c^2 g + sigma^2) [1 + (A - B) e^B E1(B)]``. ``beta = 0`` (a known
+    state seen by a noise-free sensor) is the limit ``(alpha / lam + x) / y``.
     """
+    if beta == 0:
+        return (alpha / lam + x) / y
     b = y / beta
     return alpha / beta + (x - alpha * b) / beta * lam * exp_e1(lam * b)
 
@@ -674,10 +725,8 @@ def _vector_args(A, c, Sigma_w, sigma_v2, sigma_n2, P0, steps):
     for name, M in (("Sigma_w", Sigma_w), ("P0", P0)):
         if M.shape != (n, n):
             raise ValueError(f"{name} must be {n}x{n} (as A), got shape {M.shape}")
-        if not np.allclose(M, M.T) or np.linalg.eigvalsh(0.5 * (M + M.T)).min() < -1e-12 * max(
-                1.0, np.abs(M).max()):
-            raise ValueError(f"{name} must be symmetric positive semidefinite (a covariance)")
-    return (A, c, Sigma_w, _scalar("sigma_v2", _positive("sigma_v2", sigma_v2)),
+        _covariance(name, M)
+    return (A, c, Sigma_w, _scalar("sigma_v2", _nonneg("sigma_v2", sigma_v2, _VARIANCE)),
             _scalar("sigma_n2", _positive("sigma_n2", sigma_n2)), P0, _int("steps", steps, 0))
 
 
@@ -685,7 +734,9 @@ def _vector_step(P, A, c, Sigma_w, sigma_v2, weight):
     """(21): ``Sigma_w + A [P - P c' c P / (c P c' + sigma_v2) * weight] A'`` (batched)."""
     Pc = P @ c
     S = Pc @ c + sigma_v2
-    post = P - (weight / S)[..., None, None] * Pc[..., :, None] * Pc[..., None, :]
+    # S = 0 (P c = 0 and a noise-free sensor): nothing to learn, the update is 0
+    coef = np.where(S > 0, weight / np.where(S > 0, S, 1.0), 0.0)
+    post = P - coef[..., None, None] * Pc[..., :, None] * Pc[..., None, :]
     out = A @ post @ A.T + Sigma_w
     return 0.5 * (out + np.swapaxes(out, -1, -2))
 
@@ -722,13 +773,18 @@ def vector_paths(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps, n_paths,
     A, c, Sw, sv2, sn2, P0, steps = _vector_args(A, c, Sigma_w, sigma_v2, sigma_n2, P0, steps)
     fn = functools.partial(_vector_chunk, A=A, c=c, Sigma_w=Sw, sigma_v2=sv2, sigma_n2=sn2,
                            channel=_channel(channel), P0=P0, steps=steps)
-    return montecarlo.simulate(fn, _int("n_paths", n_paths, 1), _int("seed", seed, 0), **runner)
+    return _finite_paths(montecarlo.simulate(fn, _int("n_paths", n_paths, 1),
+                                             _int("seed", seed, 0), **runner))
 
 
 def triu_to_symmetric(x, n: int) -> np.ndarray:
     """Symmetric ``(..., n, n)`` matrices from row-major upper triangles ``(..., n(n+1)/2)``
     (the layout of :func:`vector_paths` samples)."""
-    x = np.asarray(x, dtype=float)
+    n = _int("n", n, 1)
+    x = _finite("x", x)
+    if x.ndim < 1 or x.shape[-1] != n * (n + 1) // 2:
+        raise ValueError(f"x must have n (n + 1) / 2 = {n * (n + 1) // 2} entries on its last "
+                         f"axis, got shape {x.shape}")
     iu = np.triu_indices(n)
     out = np.zeros((*x.shape[:-1], n, n))
     out[..., iu[0], iu[1]] = x
@@ -755,8 +811,10 @@ def vector_bound(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps) -> np.nd
     ch = _channel(channel)
     out = np.empty((steps + 1, *P0.shape))
     out[0] = Z = P0
-    for k in range(steps):
-        S = c @ Z @ c + sv2
-        Z = _vector_step(Z, A, c, Sw, sv2, 1.0 - float(ch.ratio_mean(sn2 / S)))
-        out[k + 1] = Z
-    return out
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        for k in range(steps):
+            S = c @ Z @ c + sv2
+            Z = _vector_step(Z, A, c, Sw, sv2, 1.0 - float(ch.ratio_mean(sn2 / S)))
+            out[k + 1] = Z
+    return _finite_result("the bound", out, "it overflows the float range (A too large for "
+                          "this many steps)")

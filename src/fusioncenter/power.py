@@ -49,7 +49,11 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import riccati
+from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import finite_result as _finite_result
+from fusioncenter._validate import integer as _integer
+from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 
 __all__ = [
@@ -137,6 +141,11 @@ def _sensors(**arrays) -> dict[str, np.ndarray]:
     return out
 
 
+#: Why an error target needs process noise.
+_TARGET_NEEDS_NOISE = ("a variance; with sigma_w2 = 0 the steady state is 0 whatever alpha, so "
+                       "no target D in (sigma_w2, sigma_w2 / (1 - a^2)) exists")
+
+
 def _check_D(D, a, sigma_w2) -> np.ndarray:
     D = _finite("D", D)
     upper = sigma_w2 / (1.0 - a**2)
@@ -153,20 +162,24 @@ def _check_D(D, a, sigma_w2) -> np.ndarray:
 def stationary_variance(a, sigma_w2) -> np.ndarray:
     """``E[x_k^2] = sigma_w2 / (1 - a^2)`` of the stationary state (|a| < 1)."""
     a = _a(a)
-    return _positive("sigma_w2", sigma_w2) / (1.0 - a**2)
+    return _nonneg("sigma_w2", sigma_w2, "a variance") / (1.0 - a**2)
 
 
 def kappa(a, sigma_w2, c, sigma_v2) -> np.ndarray:
     """``kappa_i = E[y_i^2] = c_i^2 sigma_w2 / (1 - a^2) + sigma_v2_i``: power per unit alpha^2."""
     s = _sensors(c=c, sigma_v2=sigma_v2)
     _positive("sigma_v2", s["sigma_v2"])
-    return s["c"] ** 2 * stationary_variance(a, sigma_w2)[..., None] + s["sigma_v2"]
+    with np.errstate(over="ignore"):
+        out = s["c"] ** 2 * stationary_variance(a, sigma_w2)[..., None] + s["sigma_v2"]
+    return _finite_result("kappa", out, "c_i^2 sigma_w2 / (1 - a^2) overflows")
 
 
 def transmit_power(alpha, a, sigma_w2, c, sigma_v2) -> np.ndarray:
     """Per-sensor transmit powers ``gamma_i = alpha_i^2 kappa_i`` (Section II.C)."""
     s = _sensors(alpha=alpha, c=c)
-    return s["alpha"] ** 2 * kappa(a, sigma_w2, s["c"], sigma_v2)
+    with np.errstate(over="ignore"):
+        out = s["alpha"] ** 2 * kappa(a, sigma_w2, s["c"], sigma_v2)
+    return _finite_result("the transmit power", out, "alpha_i^2 kappa_i overflows")
 
 
 def steady_state(a, sigma_w2, S) -> np.ndarray:
@@ -178,7 +191,7 @@ def steady_state(a, sigma_w2, S) -> np.ndarray:
     Broadcasts like a ufunc.
     """
     a = _a(a, stable=False)
-    sigma_w2 = _positive("sigma_w2", sigma_w2)
+    sigma_w2 = _nonneg("sigma_w2", sigma_w2, "a variance")
     S = _finite("S", S)
     if np.any(S < 0):
         raise ValueError(f"S must be non-negative (it is a signal-to-noise ratio), got {S!r}")
@@ -195,7 +208,7 @@ def required_snr(D, a, sigma_w2) -> np.ndarray:
     side of (25) and ``x / y`` of problem (19).
     """
     a = _a(a)
-    sigma_w2 = _positive("sigma_w2", sigma_w2)
+    sigma_w2 = _positive("sigma_w2", sigma_w2, _TARGET_NEEDS_NOISE)
     D = _check_D(D, a, sigma_w2)
     return (a**2 * D + sigma_w2 - D) / (D * (D - sigma_w2))
 
@@ -206,13 +219,30 @@ def snr(access, alpha, h, c, sigma_v2, sigma_n2) -> np.ndarray:
     s = _sensors(alpha=alpha, h=h, c=c, sigma_v2=sigma_v2)
     _positive("h", s["h"], "a channel gain magnitude")
     _positive("sigma_v2", s["sigma_v2"])
-    sigma_n2 = _positive("sigma_n2", sigma_n2)
+    sigma_n2 = _nonneg("sigma_n2", sigma_n2, "a variance")
     ah = s["alpha"] * s["h"]
-    if access == "multi-access":
-        num = np.sum(ah * s["c"], axis=-1) ** 2
-        out = num / (np.sum(ah**2 * s["sigma_v2"], axis=-1) + sigma_n2)
-    else:
-        out = np.sum(ah**2 * s["c"] ** 2 / (ah**2 * s["sigma_v2"] + sigma_n2[..., None]), axis=-1)
+    c, sv = s["c"], s["sigma_v2"]
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+        if access == "multi-access":
+            num = np.sum(ah * c, axis=-1) ** 2
+            out = num / (np.sum(ah**2 * sv, axis=-1) + sigma_n2)
+            bad = ~np.isfinite(out)
+            if np.any(bad):
+                # (alpha h)^2 overflowed, or 0/0 with sigma_n2 = 0: divide through by the
+                # largest |alpha_i h_i| (S is then a ratio of order-one sums)
+                amax = np.max(np.abs(ah), axis=-1, keepdims=True)
+                u = ah / np.where(amax > 0, amax, 1.0)
+                den = np.sum(u**2 * sv, axis=-1) + sigma_n2 / np.where(amax > 0, amax, 1.0)[
+                    ..., 0] ** 2
+                scaled = np.where(amax[..., 0] > 0, np.sum(u * c, axis=-1) ** 2 / den, 0.0)
+                out = np.where(bad, scaled, out)
+        else:
+            term = ah**2 * c**2 / (ah**2 * sv + sigma_n2[..., None])
+            bad = ~np.isfinite(term)
+            if np.any(bad):  # c^2 / (sigma_v2 + sigma_n2 / (alpha h)^2); alpha_i = 0 sends nothing
+                alt = np.where(ah != 0, c**2 / (sv + sigma_n2[..., None] / ah**2), 0.0)
+                term = np.where(bad, alt, term)
+            out = np.sum(term, axis=-1)
     return out[()] if np.ndim(out) == 0 else out
 
 
@@ -232,13 +262,16 @@ def symmetric_asymptotics(access, scaling, a, sigma_w2, h, c, sigma_v2, sigma_n2
     if scaling not in ("none", "sqrt"):
         raise ValueError(f"scaling must be 'none' or 'sqrt', got {scaling!r}")
     a = _a(a, stable=False)
-    sw = _positive("sigma_w2", sigma_w2)
+    sw = _nonneg("sigma_w2", sigma_w2, "a variance")
     h = _positive("h", h, "a channel gain magnitude")
     c = _finite("c", c)
     if np.any(c == 0):
         raise ValueError("c must be non-zero for a 1/M law")
     sv = _positive("sigma_v2", sigma_v2)
-    sn = _positive("sigma_n2", sigma_n2)
+    sn = _nonneg("sigma_n2", sigma_n2, "a variance")
+    if access == "orthogonal" and scaling == "sqrt" and np.any((sw == 0) & (sn == 0)):
+        raise ValueError("sigma_w2 and sigma_n2 must not both be 0 for (14): its 1/M "
+                         "coefficient divides by their combination")
     if access == "multi-access" and scaling == "none":
         return sw, a**2 * sv / c**2
     if scaling == "none" or access == "multi-access":
@@ -270,8 +303,8 @@ def lemma4_bounds(M, a, sigma_w2, sigma_n2, h_range, c_range, sigma_v2_range, *,
         raise ValueError(f"scaling must be 'none' or 'sqrt', got {scaling!r}")
     M = _positive("M", M, "a number of sensors")
     a = _a(a, stable=False)
-    sw = _positive("sigma_w2", sigma_w2)
-    sn = _positive("sigma_n2", sigma_n2)
+    sw = _nonneg("sigma_w2", sigma_w2, "a variance")
+    sn = _nonneg("sigma_n2", sigma_n2, "a variance")
     (h_lo, h_hi), (c_lo, c_hi), (s_lo, s_hi) = (
         _positive(n, r, "a range of positive values") for n, r in
         (("h_range", h_range), ("c_range", c_range), ("sigma_v2_range", sigma_v2_range)))
@@ -295,9 +328,21 @@ def _general(rho, tau, kappa_, sigma_n2):
     s = _sensors(rho=rho, tau=tau, kappa=kappa_)
     _positive("tau", s["tau"])
     _positive("kappa", s["kappa"], "a power per unit alpha^2")
-    sn = _positive("sigma_n2", sigma_n2)
+    sn = _nonneg("sigma_n2", sigma_n2, "a variance")
     rho, tau, kap = np.broadcast_arrays(s["rho"], s["tau"], s["kappa"])
     return rho, tau, kap, sn
+
+
+#: Why the minimum-power problems need receiver noise.
+_IDEAL_CHANNEL = ("with an ideal channel (sigma_n2 = 0) the SNR does not depend on the scale of "
+                  "alpha, so the infimum 0 of the power is approached but not attained")
+
+
+def _noisy(sn):
+    if np.any(sn == 0):
+        raise ValueError(f"sigma_n2 must be positive for a minimum-power problem: "
+                         f"{_IDEAL_CHANNEL}")
+    return sn
 
 
 def _xy(x, y, shape):
@@ -334,6 +379,7 @@ def coherent_min_power(rho, tau, kappa, sigma_n2, x, y, *, infeasible: str = "ra
     instead of raising :class:`InfeasibleError`.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
+    sn = _noisy(sn)
     lead = np.broadcast_shapes(rho.shape[:-1], np.shape(x), np.shape(y), np.shape(sn))
     x, y = _xy(x, y, lead)
     rho2 = rho**2
@@ -370,9 +416,14 @@ def coherent_max_snr(rho, tau, kappa, sigma_n2, gamma_total):
     (see :func:`coherent_max_snr_printed`).
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
-    g = _positive("gamma_total", gamma_total, "a power")
+    g = _nonneg("gamma_total", gamma_total, "a power")
     g_, sn_ = np.asarray(g)[..., None], np.asarray(sn)[..., None]
-    w = rho / (kap + g_ * tau / sn_)
+    if np.any(sn_ == 0):  # ideal channel: the limit sigma_n2 -> 0 of the direction, rho / tau
+        with np.errstate(divide="ignore", invalid="ignore"):
+            w = np.where(sn_ == 0, rho / tau, rho / (kap + g_ * tau / np.where(sn_ == 0, 1.0,
+                                                                             sn_)))
+    else:
+        w = rho / (kap + g_ * tau / sn_)
     norm = np.sum(w**2 * kap, axis=-1)
     if np.any(norm == 0):
         raise ValueError("rho must have a non-zero entry (otherwise S = 0 whatever alpha)")
@@ -388,6 +439,7 @@ def coherent_max_snr_printed(rho, tau, kappa, sigma_n2, gamma_total):
     only if every ``kappa_i = 1``. Use :func:`coherent_max_snr`.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
+    sn = _positive("sigma_n2", sn)
     g = _positive("gamma_total", gamma_total, "a power")
     g_, sn_ = np.asarray(g)[..., None], np.asarray(sn)[..., None]
     q = rho**2 / ((kap + g_ * tau / sn_) ** 2 * kap)
@@ -430,6 +482,7 @@ def orthogonal_min_power(rho, tau, kappa, sigma_n2, x, y, *, infeasible: str = "
     ``m + 1`` is off under ``lambda(m)``.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
+    sn = _noisy(sn)
     lead = np.broadcast_shapes(rho.shape[:-1], np.shape(x), np.shape(y), np.shape(sn))
     x, y = _xy(x, y, lead)
     sn = np.broadcast_to(sn, lead)
@@ -472,9 +525,11 @@ def orthogonal_max_snr(rho, tau, kappa, sigma_n2, gamma_total, *, return_m1: boo
     whose sensor is on under ``lambda(m)`` (the printed rule).
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
-    g = _positive("gamma_total", gamma_total, "a power")
+    g = _nonneg("gamma_total", gamma_total, "a power")
     lead = np.broadcast_shapes(rho.shape[:-1], np.shape(g), np.shape(sn))
     g, sn = np.broadcast_to(g, lead), np.broadcast_to(sn, lead)
+    if np.any(sn == 0):
+        return _orthogonal_max_snr_ideal(rho, tau, kap, g, sn, lead, return_m1)
     sig = np.sqrt(sn)[..., None]
     r, t, k, order = _sorted_by_quality(rho, tau, kap)
     r, t, k, order = (np.broadcast_to(v, lead + rho.shape[-1:]) for v in (r, t, k, order))
@@ -498,6 +553,30 @@ def orthogonal_max_snr(rho, tau, kappa, sigma_n2, gamma_total, *, return_m1: boo
     return (alpha, m1 + 1) if return_m1 else alpha
 
 
+def _orthogonal_max_snr_ideal(rho, tau, kap, g, sn, lead, return_m1):
+    """(28) where some ``sigma_n2 = 0``: the limit of (29) as ``sigma_n2 -> 0``.
+
+    Every sensor with ``rho_i != 0`` is on and ``alpha_i^2 = gamma q_i / (tau_i Q)`` with
+    ``q_i = |rho_i| / sqrt(kappa_i)``, ``Q = sum_j kappa_j q_j / tau_j`` (the power is spent
+    exactly; the SNR is ``sum_{rho_i != 0} rho_i^2 / tau_i``). Instances with ``sigma_n2 > 0``
+    are solved as usual.
+    """
+    rho, tau, kap = (np.broadcast_to(v, lead + rho.shape[-1:]) for v in (rho, tau, kap))
+    if np.any(np.all(rho == 0, axis=-1)):
+        raise ValueError("rho must have a non-zero entry (otherwise S = 0 whatever alpha)")
+    q = np.abs(rho) / np.sqrt(kap)
+    Q = np.sum(kap * q / tau, axis=-1, keepdims=True)
+    ideal = np.sqrt(g[..., None] * q / (tau * Q))
+    m_ideal = np.sum(rho != 0, axis=-1)
+    noisy = sn > 0
+    if np.any(noisy):
+        alpha, m1 = orthogonal_max_snr(rho[noisy], tau[noisy], kap[noisy], sn[noisy], g[noisy],
+                                       return_m1=True)
+        ideal[noisy] = alpha
+        m_ideal[noisy] = m1
+    return (ideal, m_ideal) if return_m1 else ideal
+
+
 # ===================================================================== static channels
 def static_coefficients(a, sigma_w2, h, c, sigma_v2):
     """``(rho, tau, kappa)`` of problems (19)/(26) for static channels with CSI:
@@ -512,7 +591,7 @@ def static_coefficients(a, sigma_w2, h, c, sigma_v2):
 
 def _xy_of(D, a, sigma_w2):
     a = _a(a)
-    sigma_w2 = _positive("sigma_w2", sigma_w2)
+    sigma_w2 = _positive("sigma_w2", sigma_w2, _TARGET_NEEDS_NOISE)
     D = _check_D(D, a, sigma_w2)
     return a**2 * D + sigma_w2 - D, D * (D - sigma_w2)
 
@@ -532,7 +611,7 @@ def min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> np.ndarray:
     access = _access(access)
     x, y = _xy_of(D, a, sigma_w2)
     rho, tau, kap = static_coefficients(a, sigma_w2, h, c, sigma_v2)
-    sn = _positive("sigma_n2", sigma_n2)
+    sn = _positive("sigma_n2", sigma_n2, f"a variance; {_IDEAL_CHANNEL}")
     solver = coherent_min_power if access == "multi-access" else orthogonal_min_power
     alpha = solver(rho, tau, kap, sn, x, y, infeasible="nan")
     if np.any(np.isnan(alpha)):
@@ -545,7 +624,7 @@ def min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> np.
     (orthogonal), both maximizing the SNR (Lemmas 1, 2). Returns ``alpha``."""
     access = _access(access)
     rho, tau, kap = static_coefficients(a, sigma_w2, h, c, sigma_v2)
-    sn = _positive("sigma_n2", sigma_n2)
+    sn = _nonneg("sigma_n2", sigma_n2, "a variance")
     if access == "multi-access":
         return coherent_max_snr(rho, tau, kap, sn, gamma_total)
     return orthogonal_max_snr(rho, tau, kap, sn, gamma_total)
@@ -563,9 +642,9 @@ def equal_power(a, sigma_w2, c, sigma_v2, *, gamma=None, gamma_total=None) -> np
         raise ValueError("give exactly one of gamma (per sensor, (15)) and gamma_total ((16))")
     kap = kappa(a, sigma_w2, c, sigma_v2)
     if gamma is None:
-        per = _positive("gamma_total", gamma_total, "a power")[..., None] / kap.shape[-1]
+        per = _nonneg("gamma_total", gamma_total, "a power")[..., None] / kap.shape[-1]
     else:
-        per = _positive("gamma", gamma, "a power")[..., None]
+        per = _nonneg("gamma", gamma, "a power")[..., None]
     sign = np.where(np.asarray(c, dtype=float) < 0, -1.0, 1.0)
     return sign * np.sqrt(per / kap)
 
@@ -634,7 +713,7 @@ def equal_power_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> n
 def _csi_xy(P, D, a, sigma_w2):
     """``x_k = a^2 P_k + sigma_w2 - D`` and ``y_k = P_k (D - sigma_w2)`` of (30)."""
     a = _a(a)
-    sigma_w2 = _positive("sigma_w2", sigma_w2)
+    sigma_w2 = _positive("sigma_w2", sigma_w2, _TARGET_NEEDS_NOISE)
     D = _check_D(D, a, sigma_w2)
     P = _positive("P", P, "a prediction variance")
     return a**2 * P + sigma_w2 - D, P * (D - sigma_w2)
@@ -716,8 +795,36 @@ def greedy_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *, P0=Non
 
 
 def steady_recursion(P, a, sigma_w2, S):
-    """One step of (4)/(5) in SNR form: ``a^2 P / (1 + P S) + sigma_w2`` (broadcasts)."""
-    return a**2 * P / (1.0 + P * S) + sigma_w2
+    """One step of (4)/(5) in SNR form: ``a^2 P / (1 + P S) + sigma_w2`` (broadcasts).
+
+    Parameters
+    ----------
+    P : array_like
+        Prediction variance(s), ``>= 0``.
+    a : array_like
+        State transition(s), finite.
+    sigma_w2 : array_like
+        Process-noise variance(s), ``>= 0``.
+    S : array_like
+        Signal-to-noise ratio(s), ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The next prediction variance(s).
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN, infinite or negative (``a`` excepted), or the result overflows.
+    """
+    P = _nonneg("P", P, "a prediction variance")
+    a = _finite("a", a)
+    sigma_w2 = _nonneg("sigma_w2", sigma_w2, "a variance")
+    S = _nonneg("S", S, "a signal-to-noise ratio")
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = a**2 * P / (1.0 + P * S) + sigma_w2
+    return _finite_result("the next variance", out, "a^2 P overflows the float range")
 
 
 def greedy_min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2, *, P0=None):
@@ -806,8 +913,31 @@ def lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, 
 
 
 def lmmse_snr(Cbar, Rbar) -> np.ndarray:
-    """``S = Cbar^T Rbar^{-1} Cbar`` (the printed ``S^o`` lacks the inverse)."""
-    Cbar = np.asarray(Cbar, dtype=float)
+    """``S = Cbar^T Rbar^{-1} Cbar`` (the printed ``S^o`` lacks the inverse).
+
+    Parameters
+    ----------
+    Cbar : array_like
+        ``(..., d)``, finite.
+    Rbar : array_like
+        ``(..., d, d)``, symmetric positive definite.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``S`` ``(...)``, ``>= 0``.
+
+    Raises
+    ------
+    ValueError
+        If ``Cbar`` is not finite, ``Rbar`` not symmetric positive definite, or the shapes
+        disagree.
+    """
+    Cbar = _finite("Cbar", Cbar)
+    Rbar = _covariance("Rbar", Rbar, definite=True, batch=True)
+    if Cbar.ndim < 1 or Cbar.shape[-1] != Rbar.shape[-1]:
+        raise ValueError(f"Cbar must have {Rbar.shape[-1]} entries on its last axis (as Rbar), "
+                         f"got shape {Cbar.shape}")
     return np.einsum("...i,...i->...", Cbar,
                      np.linalg.solve(Rbar, Cbar[..., None])[..., 0])
 
@@ -889,10 +1019,15 @@ def lmmse_filter(z, a, sigma_w2, Cbar, Rbar, *, P0=None):
     P_{k+1|k}`` at the end of the measurement update.
     """
     a = float(_a(a))
-    sw = float(_positive("sigma_w2", sigma_w2))
+    sw = float(_nonneg("sigma_w2", sigma_w2, "a variance"))
     z = _finite("z", z)
     C = _finite("Cbar", Cbar)
-    R = _finite("Rbar", Rbar)
+    R = _covariance("Rbar", Rbar, definite=True)
+    if C.shape != (R.shape[0],) or z.ndim < 2 or z.shape[-1] != C.shape[0]:
+        raise ValueError(f"Cbar must be ({R.shape[0]},) as Rbar and z shaped (..., steps, "
+                         f"{R.shape[0]}); got Cbar {C.shape}, z {z.shape}")
+    if P0 is not None:
+        P0 = float(_nonneg("P0", P0, "a variance"))
     w = np.linalg.solve(R, C)  # Rbar^{-1} Cbar
     S = float(C @ w)
     steps = z.shape[-2]
@@ -918,8 +1053,12 @@ def simulate_nocsi(rng: np.random.Generator, n: int, steps: int, access, alpha_t
     time; receiver noise with ``sigma_n2`` in each of its real and imaginary parts.
     """
     access = _access(access)
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"rng must be a numpy.random.Generator, got {rng!r}")
+    n = _integer("n", n, 1)
+    steps = _integer("steps", steps, 1)
     a_ = float(_a(a))
-    sw = float(_positive("sigma_w2", sigma_w2))
+    sw = float(_nonneg("sigma_w2", sigma_w2, "a variance"))
     C, R = lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean,
                           h_var_re, h_var_im)
     c = np.atleast_1d(np.asarray(c, dtype=float))
@@ -980,10 +1119,23 @@ def solve_numerically(problem: str, rho, tau, kappa, sigma_n2, *, x=None, y=None
     """
     from scipy.optimize import minimize
 
-    rho = np.asarray(rho, float)
-    tau = np.asarray(tau, float)
-    kap = np.asarray(kappa, float)
-    sn = float(sigma_n2)
+    problems = ("coherent-min-power", "coherent-max-snr", "orthogonal-min-power",
+                "orthogonal-max-snr")
+    if problem not in problems:
+        raise ValueError(f"problem must be one of 'coherent-min-power', 'coherent-max-snr', "
+                         f"'orthogonal-min-power', 'orthogonal-max-snr'; got {problem!r}")
+    rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
+    if rho.ndim != 1 or np.ndim(sn) != 0:
+        raise ValueError(f"rho, tau, kappa must be 1-D (one instance) and sigma_n2 a scalar, got "
+                         f"shapes {rho.shape}, {np.shape(sn)}")
+    sn = float(_positive("sigma_n2", sn, f"a variance; {_IDEAL_CHANNEL}"))
+    if problem.endswith("min-power"):
+        x = float(_positive("x", x, "a2 D + sigma_w2 - D > 0"))
+        y = float(_positive("y", y, "D (D - sigma_w2) > 0"))
+    else:
+        gamma_total = float(_positive("gamma_total", gamma_total, "a power"))
+    starts = _integer("starts", starts, 1)
+    seed = _integer("seed", seed, 0)
     M = rho.size
     rng = np.random.default_rng(seed)
     opts = {"ftol": 1e-15, "maxiter": 2000}

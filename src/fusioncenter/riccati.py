@@ -29,6 +29,7 @@ __all__ = [
     "riccati_step",
     "riccati_sequence",
     "steady_state",
+    "solve_psd",
 ]
 
 
@@ -238,9 +239,25 @@ def _sym(m: np.ndarray) -> np.ndarray:
     return 0.5 * (m + np.swapaxes(m, -1, -2))
 
 
-def _solve_psd(S: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """``S^{-1} B`` for PSD ``S``; a singular ``S`` (noise-free sensors measuring known
-    directions) uses the pseudo-inverse, the limit of the Kalman gain as ``R -> 0``."""
+def solve_psd(S, B) -> np.ndarray:
+    """``S^{-1} B`` for a (batch of) symmetric PSD ``S``, e.g. an innovation covariance.
+
+    A singular ``S`` (noise-free sensors measuring directions the prior already knows) uses the
+    pseudo-inverse: the limit of the Kalman gain as ``R -> 0``. Not validated (the callers
+    check their covariances); ``S`` positive definite gives exactly ``numpy.linalg.solve``.
+
+    Parameters
+    ----------
+    S : numpy.ndarray
+        ``(..., m, m)``, symmetric positive semi-definite.
+    B : numpy.ndarray
+        ``(..., m, k)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., m, k)``.
+    """
     try:
         return np.linalg.solve(S, B)
     except np.linalg.LinAlgError:
@@ -252,7 +269,7 @@ def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray) -> np.ndarray:
     PCt = P @ Ct
     S = C @ PCt + R
     # K^T = S^{-1} (P C^T)^T, solved rather than inverted.
-    Kt = _solve_psd(S, np.swapaxes(PCt, -1, -2))
+    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2))
     return _sym(P - PCt @ Kt)
 
 

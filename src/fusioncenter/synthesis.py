@@ -60,6 +60,7 @@ import numpy as np
 from scipy import special
 
 from fusioncenter import censoring, montecarlo, particle, riccati
+from fusioncenter._validate import finite as _finite
 from fusioncenter.fading import Rayleigh
 from fusioncenter.kalman import LinearGaussianModel
 
@@ -251,11 +252,13 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
     """
     sc = _scenario(scenario)
     receiver = _receiver(receiver)
-    z = np.asarray(z, dtype=float)
+    z = _finite("z", z)
     n, T, N = z.shape if z.ndim == 3 else (None, None, None)
     if z.ndim != 3 or T != sc.T or N != sc.N:
         raise ValueError(f"z must be shaped (n, T={sc.T}, N={sc.N}), got {z.shape}")
-    xi = np.asarray(xi, dtype=float)
+    xi = _finite("xi", xi)
+    if np.any((xi < 0) | (xi > 1)):
+        raise ValueError("xi must be uniforms in [0, 1]")
     lost = np.asarray(lost, dtype=bool)
     if xi.shape != z.shape or lost.shape != z.shape:
         raise ValueError(f"xi and lost must have z's shape {z.shape}, got {xi.shape}, "
@@ -290,7 +293,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         Rk = noise[:, :, None] * eye
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)
         S = Ck @ PCt + Rk
-        w = np.linalg.solve(S, np.where(arrived, nu, 0.0)[:, :, None])
+        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None])
         xpost = xpred + (PCt @ w)[:, :, 0]
         Ppost = riccati.measurement_update(Ppred, Ck, Rk)
         xhat[:, t], Ps[:, t] = xpost, Ppost
