@@ -642,7 +642,8 @@ def _ratio_expect(alpha, beta, x, y, lam):
 def _multi_maps(access, a, c, sv2, sn2, lams, sw2, last_sensor):
     m = c.size
     a2 = a * a
-    snr = c**2 / sv2
+    with np.errstate(divide="ignore"):
+        snr = c**2 / sv2  # inf for a noise-free sensor
     if access == "multi-access":
         if last_sensor is None:
             worst = np.flatnonzero(np.isclose(snr, snr.min(), rtol=1e-12, atol=0.0))

@@ -550,6 +550,9 @@ def orthogonal_max_snr(rho, tau, kappa, sigma_n2, gamma_total, *, return_m1: boo
     num = q * g[..., None] + sn[..., None] * (q * _others(w, active) - _others(w * q, active))
     a2 = _unsort(np.where(active, np.maximum(num / (t * Q), 0.0), 0.0), order)
     alpha = np.sqrt(a2)
+    if np.any(g == 0):  # no power: every sensor off (the rule above is a tie at gamma = 0)
+        alpha = np.where(g[..., None] == 0, 0.0, alpha)
+        m1 = np.where(g == 0, -1, m1)
     return (alpha, m1 + 1) if return_m1 else alpha
 
 

@@ -83,8 +83,8 @@ def scalar_update(p, c, r):
     p = _nonneg("p", p)
     c = _v.finite("c", c)
     r = _nonneg("r", r)
-    c2 = c**2
     with np.errstate(over="ignore"):
+        c2 = c**2
         den = c2 * p + r
         num = p * r
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -194,8 +194,8 @@ def scalar_steady_state(a, q, c, r):
     q = _nonneg("q", q)
     c = _v.finite("c", c)
     r = _nonneg("r", r)
-    c2 = c**2
     with np.errstate(over="ignore", invalid="ignore"):
+        c2 = c**2
         b = r * (1.0 - a**2) - q * c2
         disc = np.sqrt(b**2 + 4.0 * c2 * q * r)
         if not np.all(np.isfinite(disc)):  # b^2 or c^2 q r overflowed
