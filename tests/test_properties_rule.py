@@ -189,6 +189,11 @@ def test_riccati_zero_noise_limits():
     assert riccati.scalar_steady_state(1.5, 0.0, 2.0, 3.0) == pytest.approx(3.0 * 1.25 / 4.0)
     assert riccati.steady_state([[0.5]], [[2.0]], [[1.0]], [[0.0]])[0, 0] == pytest.approx(2.0)
     assert riccati.scalar_update(np.float64(2.0), np.float32(1.0), np.int64(0)) == 0.0
+    # c^2 underflows: only c^2 / r matters (noise-free: p = q; tiny information: no information)
+    assert riccati.scalar_steady_state(1.0, 0.0, 2.6e-272, 0.0) == 0.0
+    assert riccati.scalar_steady_state(0.5, 1.0, 1e-200, 1e-300) == pytest.approx(4 / 3)
+    with pytest.raises(ValueError, match="^c is too small"):
+        riccati.scalar_steady_state(1.0, 1.0, 1e-200, 1.0)
 
 
 def test_power_zero_variance_and_zero_power_limits():

@@ -294,9 +294,9 @@ def _posterior_core(xbar, Sigma, C, r, delta, gamma, y):
     SCt = Sigma @ C.T  # (..., n, m)
     S = C @ SCt + Rk
     innov = np.where(gamma, y, 0.0) - xbar @ C.T  # (..., m): NaN in silent entries never used
-    w = riccati.solve_psd(S, innov[..., None])
+    w = riccati.solve_psd(S, innov[..., None], singular=riccati.singular(Rk))
     xhat = xbar + (SCt @ w)[..., 0]
-    P = riccati.measurement_update(Sigma, C, Rk)
+    P = riccati.measurement_update(Sigma, C, Rk, check=False)  # checked by the caller
     return xhat, P
 
 
@@ -467,9 +467,10 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
             Rk = np.broadcast_to(r[:, None] * eye, (n, m, m))
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)  # (n, nx, m)
         S = Ck @ PCt + Rk
-        w = riccati.solve_psd(S, np.where(g, z, 0.0)[:, :, None])  # S^{-1} Gamma z
+        w = riccati.solve_psd(S, np.where(g, z, 0.0)[:, :, None],  # S^{-1} Gamma z
+                              singular=riccati.singular(Rk))
         xpost = xpred + (PCt @ w)[:, :, 0]
-        Pk = riccati.measurement_update(Ppred, Ck, Rk)
+        Pk = riccati.measurement_update(Ppred, Ck, Rk, check=False)  # P0, r checked
         xhat[:, k] = xpost
         Ppost[:, k] = Pk
         xpred = xpost @ A.T

@@ -176,6 +176,13 @@ def _gamma_ratio(z: np.ndarray, m: float) -> np.ndarray:
                 J = (1.0 - zs * J) / a
                 a += 1.0
             lo = zs * J
+        # tiny z: hyperu overflows (nan) or z^m underflows (0); the leading term of the
+        # expansion at z = 0 is then exact to the float resolution or better: z E[1/r']
+        # = z / (m - 1) for m > 1, Gamma(1 - m) z^m for m < 1
+        failed = small & (z > 0) & ~(np.isfinite(lo) & (lo > 0))
+        if np.any(failed):
+            lead = zs / (m - 1.0) if m > 1.0 else scipy.special.gamma(1.0 - m) * zs**m
+            lo = np.where(failed, lead, lo)
         zl = np.where(small | ~np.isfinite(z), _CF_SWITCH, z)
         hi = _cf_tail(zl, m)
     out = np.where(small, lo, hi)
@@ -385,13 +392,13 @@ def _scalar_chunk(rng, n, *, a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps
     """
     out = np.empty((steps + 1, n))
     out[0] = p0
-    if a == 0.0:  # p_{k+1} = sigma_w2 whatever the channel (the harmonic form divides by a^2)
+    if a * a == 0.0:  # p_{k+1} = sigma_w2 whatever the channel (the harmonic form needs 1/a^2)
         out[1:] = sigma_w2
         return out.T
     tmp = np.empty(n)
     a2, inv_a2 = a * a, 1.0 / (a * a)
     batch = max(1, _BATCH_ELEMENTS // max(n, 1))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):
         for k0 in range(0, steps, batch):
             c = channel.sample(rng, (min(batch, steps - k0), n))
             np.divide(sigma_n2, c, out=c)
@@ -444,9 +451,15 @@ def expected_posterior(p, sigma_v2, sigma_n2, channel):
     p = _nonneg("p", p, _VARIANCE)
     sv2 = _nonneg("sigma_v2", sigma_v2, _VARIANCE)
     sn2 = _positive("sigma_n2", sigma_n2)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
         g = _channel(channel).ratio_mean(sn2 / (p + sv2))
-        out = p * (sv2 + p * g) / (p + sv2)
+        num = p * (sv2 + p * g)
+        out = num / (p + sv2)
+        # a subnormal numerator (p ~ 1e-160) has lost digits: the same ratio, grouped so
+        # that no product of two small numbers is formed (only there: same bits elsewhere)
+        tiny = num < np.finfo(float).tiny
+        if np.any(tiny):
+            out = np.where(tiny, p * ((sv2 + p * g) / np.where(p + sv2 > 0, p + sv2, 1.0)), out)
     # p = sigma_v2 = 0: a known state stays known (the limit of the formula, 0)
     out = np.where((p + sv2) == 0, 0.0, out)
     return out[()] if out.ndim == 0 else out

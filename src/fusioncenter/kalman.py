@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fusioncenter import _validate as _v
-from fusioncenter.riccati import measurement_update
+from fusioncenter.riccati import measurement_update, singular, solve_psd
 
 __all__ = ["LinearGaussianModel", "constant_velocity"]
 
@@ -159,15 +159,13 @@ class LinearGaussianModel:
         Ps = np.empty((T1, self.nx, self.nx))
         m = np.broadcast_to(self.m0, (n, self.nx))
         P = self.P0
+        r_singular = singular(self.R)
         for k in range(T1):
             S = self.C @ P @ self.C.T + self.R
-            try:
-                K = np.linalg.solve(S, self.C @ P).T
-            except np.linalg.LinAlgError:  # R singular and C P C^T too: the R -> 0 limit
-                K = (np.linalg.pinv(S, hermitian=True) @ (self.C @ P)).T
+            K = solve_psd(S, self.C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
             innov = y[:, k] - m @ self.C.T
             post_m = m + innov @ K.T
-            post_P = measurement_update(P, self.C, self.R)
+            post_P = measurement_update(P, self.C, self.R, check=k == 0)  # later P: computed
             xhat[:, k] = post_m
             Ps[k] = post_P
             m = post_m @ self.A.T

@@ -95,6 +95,9 @@ __all__ = [
 
 ACCESS = ("multi-access", "orthogonal")
 
+#: Below this a product of two floats has lost digits (subnormal range, with a margin).
+_SMALL = np.finfo(float).tiny / np.finfo(float).eps
+
 
 class InfeasibleError(ValueError):
     """The error-covariance target cannot be met with any amplification factors."""
@@ -225,22 +228,25 @@ def snr(access, alpha, h, c, sigma_v2, sigma_n2) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
         if access == "multi-access":
             num = np.sum(ah * c, axis=-1) ** 2
-            out = num / (np.sum(ah**2 * sv, axis=-1) + sigma_n2)
-            bad = ~np.isfinite(out)
+            den0 = np.sum(ah**2 * sv, axis=-1) + sigma_n2
+            out = num / den0
+            bad = ~np.isfinite(out) | (den0 < _SMALL)  # overflow, or digits lost to underflow
             if np.any(bad):
                 # (alpha h)^2 overflowed, or 0/0 with sigma_n2 = 0: divide through by the
                 # largest |alpha_i h_i| (S is then a ratio of order-one sums)
                 amax = np.max(np.abs(ah), axis=-1, keepdims=True)
                 u = ah / np.where(amax > 0, amax, 1.0)
-                den = np.sum(u**2 * sv, axis=-1) + sigma_n2 / np.where(amax > 0, amax, 1.0)[
-                    ..., 0] ** 2
+                am = np.where(amax > 0, amax, 1.0)[..., 0]
+                den = np.sum(u**2 * sv, axis=-1) + sigma_n2 / am / am
                 scaled = np.where(amax[..., 0] > 0, np.sum(u * c, axis=-1) ** 2 / den, 0.0)
                 out = np.where(bad, scaled, out)
         else:
-            term = ah**2 * c**2 / (ah**2 * sv + sigma_n2[..., None])
-            bad = ~np.isfinite(term)
+            den0 = ah**2 * sv + sigma_n2[..., None]
+            term = ah**2 * c**2 / den0
+            bad = ~np.isfinite(term) | (den0 < _SMALL)
             if np.any(bad):  # c^2 / (sigma_v2 + sigma_n2 / (alpha h)^2); alpha_i = 0 sends nothing
-                alt = np.where(ah != 0, c**2 / (sv + sigma_n2[..., None] / ah**2), 0.0)
+                aa = np.abs(np.where(ah != 0, ah, 1.0))
+                alt = np.where(ah != 0, c**2 / (sv + sigma_n2[..., None] / aa / aa), 0.0)
                 term = np.where(bad, alt, term)
             out = np.sum(term, axis=-1)
     return out[()] if np.ndim(out) == 0 else out
@@ -541,6 +547,9 @@ def orthogonal_max_snr(rho, tau, kappa, sigma_n2, gamma_total, *, return_m1: boo
         inv_sqrt_lam = B / A
         on = inv_sqrt_lam * r / np.sqrt(k) > sig
     m1 = on.shape[-1] - 1 - np.argmax(on[..., ::-1], axis=-1)  # last m that is on
+    # gamma_total / (sigma_n2 kappa_1 / tau_1) below the float resolution makes even the best
+    # sensor test "off" by rounding; it is always on when gamma_total > 0
+    m1 = np.where(np.any(on, axis=-1), m1, 0)
     # alpha_i^2 = (sigma_n / tau_i) (q_i / sqrt(lambda) - sigma_n), rewritten without
     # cancellation: (q_i gamma + sigma_n2 (q_i W_-i - Q_-i)) / (tau_i Q), w_j = kappa_j / tau_j.
     active = np.arange(r.shape[-1]) <= m1[..., None]
@@ -957,6 +966,9 @@ def lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im):
     """
     s = _sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
                  h_mean_abs=np.abs(np.asarray(h_mean)))
+    for name in ("h_var_re", "h_var_im"):
+        if np.any(s[name] < 0):
+            raise ValueError(f"{name} must be non-negative (it is a variance)")
     m = np.asarray(h_mean, dtype=complex)
     unit = beamformed(np.ones(np.shape(m)), m)
     mre, _, vre, _, cov = _channel_stats(unit, m, s["h_var_re"], s["h_var_im"])

@@ -30,6 +30,8 @@ __all__ = [
     "riccati_sequence",
     "steady_state",
     "solve_psd",
+    "singular",
+    "PINV_RCOND",
 ]
 
 
@@ -47,6 +49,10 @@ def _steps(steps) -> int:
     if not ok:
         raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
     return int(steps)
+
+
+#: Below this a product of two floats has lost digits (subnormal range, with a margin).
+_SMALL = np.finfo(float).tiny / np.finfo(float).eps
 
 
 def _out(arr: np.ndarray):
@@ -88,7 +94,8 @@ def scalar_update(p, c, r):
         den = c2 * p + r
         num = p * r
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
+        # den = 0: p = 0, or c = 0 with r = 0 (no information): the posterior is p
+        out = np.where(den > 0, num / np.where(den > 0, den, 1.0), p)
         bad = ~np.isfinite(out)
         if np.any(bad):  # overflow of c^2 p or p r: the harmonic form has no large products
             harm = 1.0 / (1.0 / p + c2 / r)
@@ -194,12 +201,22 @@ def scalar_steady_state(a, q, c, r):
     q = _nonneg("q", q)
     c = _v.finite("c", c)
     r = _nonneg("r", r)
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(over="ignore", invalid="ignore", under="ignore", divide="ignore"):
         c2 = c**2
+        tiny = (c2 == 0) & (c != 0)
+        if np.any(tiny):  # c^2 underflows: only c^2 / r matters, use c = 1, r / c^2 instead
+            rr = np.where(tiny, r / np.abs(np.where(tiny, c, 1.0)) / np.abs(
+                np.where(tiny, c, 1.0)), r)
+            c2 = np.where(tiny & np.isfinite(rr), 1.0, c2)  # r / c^2 = inf: no information
+            r = np.where(tiny & np.isfinite(rr), rr, r)
         b = r * (1.0 - a**2) - q * c2
         disc = np.sqrt(b**2 + 4.0 * c2 * q * r)
-        if not np.all(np.isfinite(disc)):  # b^2 or c^2 q r overflowed
-            disc = np.where(np.isfinite(disc), disc, np.hypot(b, 2.0 * np.sqrt(c2 * q * r)))
+        # b^2 or c^2 q r overflowed, or underflowed below the normal range: hypot has neither
+        lim = _SMALL
+        off = ~np.isfinite(disc) | ((b != 0) & (b * b < lim)) | ((c2 * q * r != 0)
+                                                                 & (c2 * q * r < lim))
+        if np.any(off):
+            disc = np.where(off, np.hypot(b, 2.0 * np.sqrt(c2 * q * r)), disc)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         # Stable root of the quadratic: avoid subtracting nearly equal numbers.
         root_pos_b = np.where(b > 0, 2.0 * q * r / np.where(b + disc > 0, b + disc, 1.0), 0.0)
@@ -214,10 +231,13 @@ def scalar_steady_state(a, q, c, r):
                           (ds - bs) / 2.0)
             p = np.where(np.isfinite(p), p, ps)
         no_obs = q / (1.0 - a**2)
-        if np.any((c2 == 0) & (np.abs(a) >= 1)):
+        if np.any((c == 0) & (np.abs(a) >= 1)):
             raise ValueError("c must be non-zero when |a| >= 1: without measurements the "
                              "variance of an unstable (or marginally stable) state does not "
                              "converge, there is no steady state")
+        if np.any((c2 == 0) & (np.abs(a) >= 1)):
+            raise ValueError("c is too small for |a| >= 1: the information c^2 / r is below "
+                             "the float range and the steady-state variance overflows")
         p = np.where(c2 > 0, p, np.where(np.abs(a) < 1, no_obs, 0.0))
     return _out(_v.finite_result("the steady-state variance", p, "an input is too large"))
 
@@ -239,12 +259,47 @@ def _sym(m: np.ndarray) -> np.ndarray:
     return 0.5 * (m + np.swapaxes(m, -1, -2))
 
 
-def solve_psd(S, B) -> np.ndarray:
+#: Relative threshold below which an eigenvalue of an innovation covariance counts as zero
+#: when the noise covariance is singular (:func:`solve_psd` with ``singular=True``).
+PINV_RCOND = 1e-10
+
+
+def singular(R) -> bool:
+    """Whether any matrix of a (batch of) symmetric PSD ``R`` is singular, i.e. has an
+    eigenvalue ``<= PINV_RCOND * max |R|`` (a noise-free sensor, or a zero matrix).
+
+    Parameters
+    ----------
+    R : numpy.ndarray
+        ``(..., m, m)``, symmetric PSD (only finiteness and shape are checked).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    ValueError
+        If ``R`` is not finite or not a (stack of) square matrices.
+    """
+    R = _as_matrix("R", R)
+    _check_square("R", R)
+    if R.size == 0:
+        return False
+    low = np.linalg.eigvalsh(R)[..., 0]
+    scale = np.abs(R).max(axis=(-2, -1))
+    return bool(np.any(low <= PINV_RCOND * scale))
+
+
+def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
     """``S^{-1} B`` for a (batch of) symmetric PSD ``S``, e.g. an innovation covariance.
 
-    A singular ``S`` (noise-free sensors measuring directions the prior already knows) uses the
-    pseudo-inverse: the limit of the Kalman gain as ``R -> 0``. Not validated (the callers
-    check their covariances); ``S`` positive definite gives exactly ``numpy.linalg.solve``.
+    With ``singular=False`` this is ``numpy.linalg.solve``, falling back to the pseudo-inverse
+    where ``S`` is exactly singular. With ``singular=True`` (the noise covariance is singular,
+    see :func:`singular`) it is the pseudo-inverse with eigenvalues below ``PINV_RCOND`` times
+    the largest treated as zero: noise-free sensors measuring directions the prior already knows
+    up to rounding, the limit of the Kalman gain as ``R -> 0``. Only finiteness is checked (the
+    callers check their covariances).
 
     Parameters
     ----------
@@ -252,16 +307,28 @@ def solve_psd(S, B) -> np.ndarray:
         ``(..., m, m)``, symmetric positive semi-definite.
     B : numpy.ndarray
         ``(..., m, k)``.
+    singular : bool
+        Use the thresholded pseudo-inverse.
 
     Returns
     -------
     numpy.ndarray
         ``(..., m, k)``.
+
+    Raises
+    ------
+    ValueError
+        If ``S`` or ``B`` has a NaN or infinite entry.
     """
+    if not (np.all(np.isfinite(S)) and np.all(np.isfinite(B))):
+        raise ValueError("S and B must be finite (an innovation covariance and its right-hand "
+                         "side)")
+    if singular:
+        return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
     try:
         return np.linalg.solve(S, B)
     except np.linalg.LinAlgError:
-        return np.linalg.pinv(S, hermitian=True) @ B
+        return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
 
 
 def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray) -> np.ndarray:
@@ -269,7 +336,7 @@ def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray) -> np.ndarray:
     PCt = P @ Ct
     S = C @ PCt + R
     # K^T = S^{-1} (P C^T)^T, solved rather than inverted.
-    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2))
+    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2), singular=singular(R))
     return _sym(P - PCt @ Kt)
 
 
@@ -280,11 +347,16 @@ def _check_update_shapes(P, C, R) -> None:
         raise ValueError(f"R is {R.shape[-1]}x{R.shape[-1]} but C has {C.shape[-2]} rows")
 
 
-def measurement_update(P, C, R) -> np.ndarray:
+def measurement_update(P, C, R, *, check: bool = True) -> np.ndarray:
     """``P - P C^T (C P C^T + R)^{-1} C P`` (batched), symmetrized.
 
     ``R`` may be singular (noise-free sensors, ``R = 0``): where ``C P C^T + R`` is singular the
     pseudo-inverse gives the limit of the update as ``R -> 0``.
+
+    A filter that propagates covariances it computed itself passes ``check=False`` after its
+    first step: a computed covariance that is zero up to rounding (a state known exactly) has
+    eigenvalues of order ``-1e-18`` *relative to the prior*, which no tolerance relative to the
+    matrix itself can tell from an indefinite input. Shapes and finiteness are always checked.
 
     Parameters
     ----------
@@ -294,6 +366,9 @@ def measurement_update(P, C, R) -> np.ndarray:
         Measurement matrix (matrices) ``(..., m, n)``, finite.
     R : array_like
         Measurement-noise covariance(s) ``(..., m, m)``, symmetric positive semi-definite.
+    check : bool
+        Check that ``P`` and ``R`` are symmetric PSD (default); ``False`` checks only shapes
+        and finiteness.
 
     Returns
     -------
@@ -306,14 +381,19 @@ def measurement_update(P, C, R) -> np.ndarray:
         If an argument is not finite, has the wrong shape, or ``P`` or ``R`` is not symmetric
         positive semi-definite (tolerances of :func:`fusioncenter._validate.covariance`).
     """
-    P = _v.covariance("P", P, batch=True)
+    if check:
+        P = _v.covariance("P", P, batch=True)
+        R = _v.covariance("R", R, batch=True)
+    else:
+        P, R = _as_matrix("P", P), _as_matrix("R", R)
+        _check_square("P", P)
+        _check_square("R", R)
     C = _as_matrix("C", C)
-    R = _v.covariance("R", R, batch=True)
     _check_update_shapes(P, C, R)
     return _update(P, C, R)
 
 
-def riccati_step(P, A, Q, C, R) -> np.ndarray:
+def riccati_step(P, A, Q, C, R, *, check: bool = True) -> np.ndarray:
     """One step ``P_{k+1|k} = A P_{k|k} A^T + Q``, ``P_{k|k}`` from :func:`measurement_update`.
 
     Parameters
@@ -326,6 +406,8 @@ def riccati_step(P, A, Q, C, R) -> np.ndarray:
         Process-noise covariance(s) ``(..., n, n)``, symmetric PSD.
     C, R : array_like
         As in :func:`measurement_update`.
+    check : bool
+        As in :func:`measurement_update` (for ``P`` only; ``Q`` and ``R`` are always checked).
 
     Returns
     -------
@@ -341,7 +423,9 @@ def riccati_step(P, A, Q, C, R) -> np.ndarray:
     A = _as_matrix("A", A)
     _check_square("A", A)
     Q = _v.covariance("Q", Q, batch=True)
-    post = measurement_update(P, C, R)
+    if not check:
+        R = _v.covariance("R", R, batch=True)
+    post = measurement_update(P, C, R, check=check)
     with np.errstate(over="ignore", invalid="ignore"):
         out = _sym(A @ post @ np.swapaxes(A, -1, -2) + Q)
     return _v.finite_result("P_{k+1|k}", out, "A P A^T overflows the float range")
@@ -389,7 +473,7 @@ def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) 
     out = [P]
     for k in range(steps):
         Ck, Rk = (C[k], R[k]) if time_varying else (C, R)
-        P = riccati_step(P, A, Q, Ck, Rk)
+        P = riccati_step(P, A, Q, Ck, Rk, check=k == 0)  # later P: computed here
         out.append(P)
     return np.stack(np.broadcast_arrays(*out))
 

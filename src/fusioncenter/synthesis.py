@@ -293,9 +293,10 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         Rk = noise[:, :, None] * eye
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)
         S = Ck @ PCt + Rk
-        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None])
+        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None],
+                              singular=riccati.singular(Rk))
         xpost = xpred + (PCt @ w)[:, :, 0]
-        Ppost = riccati.measurement_update(Ppred, Ck, Rk)
+        Ppost = riccati.measurement_update(Ppred, Ck, Rk, check=False)  # computed Ppred
         xhat[:, t], Ps[:, t] = xpost, Ppost
         sent_all[:, t], arr_all[:, t] = sent, arrived
         xpred = xpost @ F.T
