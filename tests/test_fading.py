@@ -211,7 +211,7 @@ def test_bound_sequences_are_the_printed_17_18_19(sv2):
 @pytest.mark.parametrize("sv2", [0.01, 1.0, 25.0, 400.0])
 def test_eq20_as_derived_and_as_printed(sv2):
     """(20) is the intermediate Nakagami bound with g/(g + sigma_v^2) dropped; the printed nested
-    square root is something else (and looser). See book/dey2009/ERRATA-NOTES.md."""
+    square root is something else (and looser). See the errata page, book/errata.md."""
     ours = fading.scalar_bounds(A, SW2, sv2, SN2, Nakagami(0.5, LAM), 1.0, 60)["q"]
     derived = _iterate(lambda q: _nakagami_intermediate(q, sv2, drop_factor=True), 1.0, 60)
     np.testing.assert_allclose(ours, derived, rtol=1e-12)

@@ -41,7 +41,7 @@ with fading and CSI the greedy per-step problems (30)/(31) and their orthogonal 
 / :func:`greedy_min_error`; without CSI the linear MMSE estimator (32)-(33) is
 :func:`lmmse_matrices`, :func:`lmmse_filter` and its steady state :func:`lmmse_steady_state`.
 :func:`solve_numerically` solves the same problems with SciPy's SLSQP (an independent check of
-the closed forms). See ``book/leong2011/ERRATA-NOTES.md`` for the errata.
+the closed forms). The errata are on the book's errata page, ``book/errata.md``.
 """
 
 from __future__ import annotations
