@@ -45,7 +45,7 @@ def test_dey2009_first_expectation_of_3_3_2_with_sigma_n1():
     lam, s1, n1, c1, g = 1.7, 0.8, 2.5, 1.3, 3.0
     for D in (1.0, 2.4):
         quad = scipy.integrate.quad(
-            lambda r: lam * np.exp(-lam * r) * (r * s1 + n1) / ((r * s1 + n1) * D
+            lambda r, D=D: lam * np.exp(-lam * r) * (r * s1 + n1) / ((r * s1 + n1) * D
                                                                + r * c1**2 * g),
             0, np.inf, epsabs=0, epsrel=1e-12)[0]
         A1, B1 = lam * n1 / s1, lam * n1 * D / (s1 * D + c1**2 * g)
