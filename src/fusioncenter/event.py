@@ -171,6 +171,25 @@ def trigger_probability(s, delta, mu=0.0):
     ``E exp(-y^2/(2 delta)) = sqrt(delta / (delta + s)) exp(-mu^2 / (2 (delta + s)))``; computed as
     ``-expm1(-log1p(s/delta)/2 - mu^2/(2 (delta + s)))`` so small rates keep full relative
     accuracy. Broadcasts like a ufunc; ``s >= 0``, ``delta > 0``.
+
+    Parameters
+    ----------
+    s : array_like
+        Variance of ``y``, ``>= 0``.
+    delta : array_like
+        Trigger parameter, ``> 0``.
+    mu : array_like
+        Mean of ``y``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The send probability, in ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN or infinite, ``s < 0`` or ``delta <= 0``.
     """
     s = _finite("s", s)
     delta = _finite("delta", delta)
@@ -190,6 +209,30 @@ def communication_rate(Sigma, C, R, delta, xbar=None) -> np.ndarray:
     ``xbar = None`` (zero mean) this is the notes'
     ``1 - 1/sqrt(1 + (r_i + a_i Sigma a_i^T)/delta_i)``.
     ``R``: vector ``(m,)`` or diagonal ``(m, m)``; ``delta``: ``(m,)`` or a scalar.
+
+    Parameters
+    ----------
+    Sigma : array_like
+        Prior covariance of ``x`` ``(n, n)``, symmetric PSD (singular allowed).
+    C : array_like
+        Rows ``a_i`` ``(m, n)``.
+    R : array_like
+        Noise variances ``(m,)`` or a diagonal ``(m, m)``, ``>= 0``.
+    delta : array_like
+        Trigger parameters ``(m,)`` or a scalar, ``> 0``.
+    xbar : array_like, optional
+        Prior mean ``(n,)`` (default 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(m,)`` send probabilities in ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite, of the wrong shape, not a covariance, a negative
+        variance, a non-positive ``delta`` or a non-diagonal ``R``.
     """
     C = _obs_matrix(C)
     m, n = C.shape
@@ -222,6 +265,26 @@ def delta_for_rate(rate, s, mu=0.0):
       where each of the two terms of ``h`` is ``>= L/2``, so ``h(hi) >= L``.
 
     Broadcasts over ``rate``, ``s``, ``mu``.
+
+    Parameters
+    ----------
+    rate : array_like
+        Target send probabilities in ``(0, 1)``.
+    s : array_like
+        Variances of ``y``, ``>= 0``.
+    mu : array_like
+        Means of ``y``.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``delta > 0``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN or infinite, ``rate`` is outside ``(0, 1)``, ``s < 0``, or
+        ``s = mu = 0`` (no ``delta`` gives a positive rate).
     """
     rate = _finite("rate", rate)
     s = _finite("s", s)
@@ -276,6 +339,25 @@ def sample_trigger(rng: np.random.Generator, y, delta) -> np.ndarray:
     trial) axes, and of ``x`` and the noises. The notes leave this implicit, but the closed-form
     posterior needs it (it makes ``gamma`` conditionally independent of ``x`` given ``y``, and the
     sensors' likelihoods factorize).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The source of the uniforms ``xi``.
+    y : array_like
+        Measurements ``(..., m)``, finite.
+    delta : array_like
+        ``(m,)`` or a scalar, ``> 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean ``gamma``, shaped like ``y``.
+
+    Raises
+    ------
+    ValueError
+        If ``rng`` is not a Generator, ``y`` is not finite or ``delta`` is not positive.
     """
     if not isinstance(rng, np.random.Generator):
         raise ValueError("rng must be a numpy.random.Generator")
@@ -311,6 +393,35 @@ def posterior(xbar, Sigma, C, R, delta, gamma, y):
     together (one call scores a whole Monte Carlo sample); returns ``xhat (..., n)``,
     ``P (..., n, n)``. Entries of ``y`` where ``gamma = 0`` are ignored and may be NaN; where
     ``gamma = 1`` they must be finite.
+
+    Parameters
+    ----------
+    xbar : array_like
+        Prior means ``(..., n)``.
+    Sigma : array_like
+        Prior covariances ``(..., n, n)``, symmetric PSD (singular allowed: a known component).
+    C : array_like
+        ``(m, n)``.
+    R : array_like
+        Noise variances ``(m,)`` or diagonal ``(m, m)``, ``>= 0`` (0: a noise-free sensor).
+    delta : array_like
+        ``(m,)`` or a scalar, ``> 0``.
+    gamma : array_like
+        ``(..., m)`` of 0/1 or booleans.
+    y : array_like
+        ``(..., m)``; finite where ``gamma = 1``.
+
+    Returns
+    -------
+    xhat : numpy.ndarray
+        ``(..., n)``.
+    P : numpy.ndarray
+        ``(..., n, n)``, symmetric PSD, never above ``Sigma``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite, of the wrong shape, not a covariance, or not 0/1.
     """
     C = _obs_matrix(C)
     m, n = C.shape
@@ -421,6 +532,32 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
     :func:`fusioncenter.riccati.measurement_update` with ``R_k = R + (I - Gamma_k) Delta``
     (stochastic; all-send is ``Gamma = I``), or with the silent rows of ``C`` zeroed (random,
     stochastic-ignore), which drops those sensors exactly.
+
+    Parameters
+    ----------
+    model : LinearGaussianModel
+        The system; ``model.R`` must be diagonal (independent sensor noises).
+    steps : int
+        Number of transitions, ``>= 0``.
+    scheme : str
+        One of :data:`SCHEMES`.
+    rng : numpy.random.Generator
+        The source of randomness.
+    n_trials : int
+        Number of trials, ``>= 1``.
+    delta : array_like, optional
+        Trigger parameters ``(m,)`` or a scalar, ``> 0`` (stochastic schemes only).
+    p : array_like, optional
+        Send probabilities ``(m,)`` or a scalar, in ``[0, 1]`` (``"random"`` only).
+
+    Returns
+    -------
+    EventKFRun
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is missing, superfluous or out of range.
     """
     model, r = _model(model)
     steps = _steps(steps)
@@ -486,6 +623,27 @@ def event_kf_chunk(rng: np.random.Generator, n: int, *, model: LinearGaussianMod
     Use ``functools.partial(event_kf_chunk, model=..., steps=..., scheme=..., delta=...)``.
     Returns ``(n, steps+1, 2 nx + 2 m)``: columns ``[sq_err (nx) | diag P_{k|k} (nx) | gamma (m) |
     send_prob (m)]``; :func:`split_summary` splits a sample array or a mean/stderr by name.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The source of randomness.
+    n : int
+        Number of trials.
+    model : LinearGaussianModel
+        The system; ``model.R`` must be diagonal (independent sensor noises).
+    steps, scheme, delta, p
+        As in :func:`event_kf_run`.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, steps + 1, 2 nx + 2 m)``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`event_kf_run`.
     """
     run = event_kf_run(model, steps, scheme, rng, n, delta=delta, p=p)
     diagP = np.diagonal(run.P, axis1=-2, axis2=-1)
@@ -496,6 +654,23 @@ def split_summary(arr, nx: int) -> dict[str, np.ndarray]:
     """Name the last-axis columns of an :func:`event_kf_chunk` array (or its mean or stderr).
 
     Keys: ``sq_err`` (``nx``), ``p_diag`` (``nx``), ``gamma`` (``m``), ``send_prob`` (``m``).
+
+    Parameters
+    ----------
+    arr : array_like
+        An :func:`event_kf_chunk` array, or its mean or standard error.
+    nx : int
+        The state dimension.
+
+    Returns
+    -------
+    dict
+        ``sq_err``, ``p_diag``, ``gamma``, ``send_prob`` (views of ``arr``).
+
+    Raises
+    ------
+    ValueError
+        If the last axis is not ``2 nx + 2 m`` for some ``m >= 1``.
     """
     arr = np.asarray(arr)
     extra = arr.shape[-1] - 2 * nx
@@ -537,6 +712,30 @@ def steady_state_delta(model: LinearGaussianModel, rate, *, method: str = "mean-
     target 0.1 -> 0.166 (0.227); with ``N = 4``, target 0.25 -> 0.273 (0.318), 0.75 -> 0.750.
     The approximation is good at moderate and high rates and poor at low rates, where ``P``
     fluctuates most.
+
+    Parameters
+    ----------
+    model : LinearGaussianModel
+        The system; ``model.R`` must be diagonal (independent sensor noises).
+    rate : array_like
+        Target long-run send probabilities ``(m,)`` or a scalar, in ``(0, 1)``.
+    method : str
+        ``"mean-information"`` or ``"all-send"``.
+    tol : float
+        Relative convergence tolerance of the fixed point.
+    max_iter : int
+        Iterations allowed.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``delta`` ``(m,)``.
+
+    Raises
+    ------
+    ValueError
+        If ``rate`` or ``method`` is invalid, ``model.R`` is not diagonal and positive, or the
+        iteration does not converge.
     """
     model, r = _model(model)
     m = model.ny
@@ -605,6 +804,32 @@ def calibrate_delta(model: LinearGaussianModel, rate, *, n_trials: int = 2000, s
     The result hits ``rate`` on this sample; the true long-run rate lies within a few ``stderr``
     of it (``stderr`` is computed across trials from per-trial averages). Raises ``ValueError``
     if ``max_iter`` simulations do not reach ``tol``.
+
+    Parameters
+    ----------
+    model : LinearGaussianModel
+        The system; ``model.R`` must be diagonal (independent sensor noises).
+    rate : array_like
+        Target long-run send probabilities ``(m,)`` or a scalar, in ``(0, 1)``.
+    n_trials, steps, burn_in : int
+        Size of the calibration simulation; the rate is averaged over steps ``burn_in..steps``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    tol : float
+        Accuracy required of the achieved rate.
+    max_iter : int
+        Simulations allowed.
+
+    Returns
+    -------
+    Calibration
+        ``delta``, the achieved ``rate``, its ``stderr`` (NaN for one trial: undefined) and the
+        number of simulations.
+
+    Raises
+    ------
+    ValueError
+        If an argument is out of range, or the target is not reached in ``max_iter`` simulations.
     """
     model, _ = _model(model)
     m = model.ny

@@ -420,6 +420,41 @@ def scalar_paths(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps, n_paths, s
 
     ``samples`` is ``(n_paths, steps + 1)``; ``p_0 = p0`` on every path. ``runner`` keywords
     (``chunk_size``, ``executor``, ``progress``) go to :func:`fusioncenter.montecarlo.simulate`.
+
+    Parameters
+    ----------
+    a : float
+        State transition, finite (``a = 0`` allowed: ``p_k = sigma_w2`` for ``k >= 1``).
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0`` (``0``: a noise-free sensor).
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain ``r = h^2``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    MonteCarloResult
+        ``samples`` ``(n_paths, steps + 1)``, finite.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     a, sw2, sv2, sn2, p0, steps = _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps)
     fn = functools.partial(_scalar_chunk, a=a, sigma_w2=sw2, sigma_v2=sv2, sigma_n2=sn2,
@@ -436,7 +471,43 @@ def _finite_paths(res):
 
 
 def scalar_mc(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps, n_paths, seed, **runner):
-    """``(mean, stderr)`` of ``p_k``, ``k = 0..steps``, over ``n_paths`` Monte Carlo paths."""
+    """``(mean, stderr)`` of ``p_k``, ``k = 0..steps``, over ``n_paths`` Monte Carlo paths.
+
+    Parameters
+    ----------
+    a : float
+        State transition, finite (``a = 0`` allowed: ``p_k = sigma_w2`` for ``k >= 1``).
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0`` (``0``: a noise-free sensor).
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain ``r = h^2``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    mean, stderr : numpy.ndarray
+        ``(steps + 1,)``; ``stderr`` is NaN for one path (undefined).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     res = scalar_paths(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps, n_paths, seed,
                        **runner)
     return res.mean, res.stderr
@@ -447,6 +518,27 @@ def expected_posterior(p, sigma_v2, sigma_n2, channel):
     """``E_r[p (r sigma_v2 + sigma_n2) / (r (p + sigma_v2) + sigma_n2)]`` (the bracket of (16)).
 
     Equals ``p (sigma_v2 + p g(b)) / (p + sigma_v2)`` with ``b = sigma_n2 / (p + sigma_v2)``.
+
+    Parameters
+    ----------
+    p : array_like
+        Prior variance(s), ``>= 0``.
+    sigma_v2 : array_like
+        Measurement-noise variance, ``>= 0``.
+    sigma_n2 : array_like
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``E_r[posterior variance]``, in ``[0, p]``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is NaN, infinite or out of range.
     """
     p = _nonneg("p", p, _VARIANCE)
     sv2 = _nonneg("sigma_v2", sigma_v2, _VARIANCE)
@@ -528,6 +620,34 @@ def scalar_bounds(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps) -> dict:
     denominator corrected, see the errata). Other Nakagami-m: ``s`` is the scalar case of the
     paper's ``Z_k`` (14) with the exact expectation, ``q`` the loose bound of the more severe of
     the two paper cases (see :func:`_loose_map`). Both start at ``p0 = E[p_0]``.
+
+    Parameters
+    ----------
+    a : float
+        State transition, finite (``a = 0`` allowed: ``p_k = sigma_w2`` for ``k >= 1``).
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0`` (``0``: a noise-free sensor).
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain ``r = h^2``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+
+    Returns
+    -------
+    dict
+        ``"s"`` and ``"q"``, each ``(steps + 1,)``, finite, ``s <= q``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     a, sw2, sv2, sn2, p0, steps = _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps)
     ch = _channel(channel)
@@ -536,7 +656,32 @@ def scalar_bounds(a, sigma_w2, sigma_v2, sigma_n2, channel, p0, steps) -> dict:
 
 
 def scalar_bound_limits(a, sigma_w2, sigma_v2, sigma_n2, channel) -> dict:
-    """The limits ``s*`` and ``q*`` of :func:`scalar_bounds` (fixed points, by root finding)."""
+    """The limits ``s*`` and ``q*`` of :func:`scalar_bounds` (fixed points, by root finding).
+
+    Parameters
+    ----------
+    a : float
+        State transition, finite (``a = 0`` allowed: ``p_k = sigma_w2`` for ``k >= 1``).
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0`` (``0``: a noise-free sensor).
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain ``r = h^2``.
+
+    Returns
+    -------
+    dict
+        ``"s"`` and ``"q"``: the fixed points (floats).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     a, sw2, sv2, sn2, _, _ = _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, 0.0, 0)
     ch = _channel(channel)
     return {"s": _fixed_point(_tight_map(a, sw2, sv2, sn2, ch), sw2),
@@ -547,6 +692,28 @@ def nakagami_q_as_printed(a, sigma_w2, sigma_v2, sigma_n2, lam, p0, steps) -> np
     """(20) exactly as printed, with the nested root ``sqrt(s2 l/2 + sqrt(s2 l/2 + ...))``.
 
     Kept only as evidence for the errata: it is not what the derivation before (20) gives.
+
+    Parameters
+    ----------
+    a, sigma_w2, sigma_v2, sigma_n2
+        As in :func:`scalar_bounds`.
+    lam : float
+        The Nakagami(1/2) parameter ``1 / E[r]``, ``> 0``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(steps + 1,)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     a, sw2, sv2, sn2, p0, steps = _scalar_args(a, sigma_w2, sigma_v2, sigma_n2, p0, steps)
     lam = _scalar("lam", _positive("lam", lam, "1 / mean power gain"))
@@ -622,6 +789,45 @@ def multisensor_paths(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, step
 
     ``c``, ``sigma_v2`` and ``lams`` have one entry per sensor; ``sigma_n2`` is the receiver
     noise (multi-access) or per-channel noise(s) (orthogonal, scalar or one per sensor).
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` (model (7)) or ``"orthogonal"`` (model (8)).
+    a : float
+        State transition, finite.
+    c : array_like
+        Measurement gains, one per sensor (``> 0`` for multi-access).
+    sigma_v2 : array_like
+        Measurement-noise variances, one per sensor, ``>= 0``.
+    sigma_n2 : array_like
+        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+    lams : array_like
+        Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    MonteCarloResult
+        ``samples`` ``(n_paths, steps + 1)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     access, a, c, sv2, sn2, lams, sw2, p0, steps = _multi_args(
         access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps)
@@ -633,7 +839,47 @@ def multisensor_paths(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, step
 
 def multisensor_mc(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps, n_paths, seed,
                    **runner):
-    """``(mean, stderr)`` of ``p_k``, ``k = 0..steps``, for the multisensor schemes."""
+    """``(mean, stderr)`` of ``p_k``, ``k = 0..steps``, for the multisensor schemes.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` (model (7)) or ``"orthogonal"`` (model (8)).
+    a : float
+        State transition, finite.
+    c : array_like
+        Measurement gains, one per sensor (``> 0`` for multi-access).
+    sigma_v2 : array_like
+        Measurement-noise variances, one per sensor, ``>= 0``.
+    sigma_n2 : array_like
+        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+    lams : array_like
+        Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    mean, stderr : numpy.ndarray
+        ``(steps + 1,)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     res = multisensor_paths(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps, n_paths,
                             seed, **runner)
     return res.mean, res.stderr
@@ -707,6 +953,40 @@ def multisensor_bounds(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, ste
     puts it last); ``last_sensor`` overrides that choice, which violates (22) unless the sensor is
     a worst one, and then ``s`` need not bound ``E[p_k]`` (figure ``dey2009-ordering``).
     Orthogonal: ``s`` is the minimum over sensors (no ordering is needed). ``t`` is (24)/(26).
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` (model (7)) or ``"orthogonal"`` (model (8)).
+    a : float
+        State transition, finite.
+    c : array_like
+        Measurement gains, one per sensor (``> 0`` for multi-access).
+    sigma_v2 : array_like
+        Measurement-noise variances, one per sensor, ``>= 0``.
+    sigma_n2 : array_like
+        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+    lams : array_like
+        Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    p0 : float
+        ``E[p_0]``, ``>= 0``.
+    steps : int
+        Number of steps, ``>= 0``.
+    last_sensor : int, optional
+        Multi-access only: the sensor integrated last (default: a worst one).
+
+    Returns
+    -------
+    dict
+        ``"s"`` and ``"t"``, each ``(steps + 1,)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     access, a, c, sv2, sn2, lams, sw2, p0, steps = _multi_args(
         access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps)
@@ -717,7 +997,38 @@ def multisensor_bounds(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, ste
 
 def multisensor_bound_limits(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, *,
                              last_sensor: int | None = None) -> dict:
-    """The limits ``s*`` and ``t*`` of :func:`multisensor_bounds` (fixed points)."""
+    """The limits ``s*`` and ``t*`` of :func:`multisensor_bounds` (fixed points).
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` (model (7)) or ``"orthogonal"`` (model (8)).
+    a : float
+        State transition, finite.
+    c : array_like
+        Measurement gains, one per sensor (``> 0`` for multi-access).
+    sigma_v2 : array_like
+        Measurement-noise variances, one per sensor, ``>= 0``.
+    sigma_n2 : array_like
+        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+    lams : array_like
+        Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
+    sigma_w2 : float
+        Process-noise variance, ``>= 0``.
+    last_sensor : int, optional
+        As in :func:`multisensor_bounds`.
+
+    Returns
+    -------
+    dict
+        ``"s"`` and ``"t"``: the fixed points.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     access, a, c, sv2, sn2, lams, sw2, _, _ = _multi_args(
         access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, 0.0, 0)
     last = _last_sensor(access, last_sensor, c.size)
@@ -783,7 +1094,45 @@ def _vector_chunk(rng, n, *, A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, ste
 
 
 def vector_paths(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps, n_paths, seed, **runner):
-    """Paths of (21); ``samples`` hold the upper triangle of ``P_k`` (row-major ``triu``)."""
+    """Paths of (21); ``samples`` hold the upper triangle of ``P_k`` (row-major ``triu``).
+
+    Parameters
+    ----------
+    A : array_like
+        State transition ``(n, n)``, finite.
+    c : array_like
+        Measurement row ``(n,)``, finite.
+    Sigma_w : array_like
+        Process-noise covariance ``(n, n)``, symmetric PSD.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0``.
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain.
+    P0 : array_like
+        ``E[P_0]`` ``(n, n)``, symmetric PSD.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    MonteCarloResult
+        ``samples`` ``(n_paths, steps + 1, n (n + 1) / 2)`` (upper triangles).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     A, c, Sw, sv2, sn2, P0, steps = _vector_args(A, c, Sigma_w, sigma_v2, sigma_n2, P0, steps)
     fn = functools.partial(_vector_chunk, A=A, c=c, Sigma_w=Sw, sigma_v2=sv2, sigma_n2=sn2,
                            channel=_channel(channel), P0=P0, steps=steps)
@@ -793,7 +1142,25 @@ def vector_paths(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps, n_paths,
 
 def triu_to_symmetric(x, n: int) -> np.ndarray:
     """Symmetric ``(..., n, n)`` matrices from row-major upper triangles ``(..., n(n+1)/2)``
-    (the layout of :func:`vector_paths` samples)."""
+    (the layout of :func:`vector_paths` samples).
+
+    Parameters
+    ----------
+    x : array_like
+        Upper triangles ``(..., n (n + 1) / 2)``, finite.
+    n : int
+        Matrix size, ``>= 1``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., n, n)``.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is not finite or its last axis is not ``n (n + 1) / 2``.
+    """
     n = _int("n", n, 1)
     x = _finite("x", x)
     if x.ndim < 1 or x.shape[-1] != n * (n + 1) // 2:
@@ -807,7 +1174,45 @@ def triu_to_symmetric(x, n: int) -> np.ndarray:
 
 
 def vector_mc(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps, n_paths, seed, **runner):
-    """``(mean, stderr)`` of ``P_k`` entrywise, each shaped ``(steps + 1, n, n)``."""
+    """``(mean, stderr)`` of ``P_k`` entrywise, each shaped ``(steps + 1, n, n)``.
+
+    Parameters
+    ----------
+    A : array_like
+        State transition ``(n, n)``, finite.
+    c : array_like
+        Measurement row ``(n,)``, finite.
+    Sigma_w : array_like
+        Process-noise covariance ``(n, n)``, symmetric PSD.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0``.
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain.
+    P0 : array_like
+        ``E[P_0]`` ``(n, n)``, symmetric PSD.
+    steps : int
+        Number of steps, ``>= 0``.
+    n_paths : int
+        Number of Monte Carlo paths, ``>= 1``.
+    seed : int
+        Non-negative integer seed (NumPy integers accepted, ``bool`` rejected).
+    **runner
+        ``chunk_size``, ``executor``, ``progress``, ``block_size`` of
+        :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    mean, stderr : numpy.ndarray
+        ``(steps + 1, n, n)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
+    """
     res = vector_paths(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps, n_paths, seed,
                        **runner)
     n = np.asarray(A).shape[0]
@@ -820,6 +1225,36 @@ def vector_bound(A, c, Sigma_w, sigma_v2, sigma_n2, channel, P0, steps) -> np.nd
     ``Zbar_{k+1} = Sigma_w + A Zbar A' - A Zbar c' c Zbar A' / (c Zbar c' + sigma_v2) (1 - g)``
     with ``g = E[b / (r + b)]``, ``b = sigma_n2 / (c Zbar c' + sigma_v2)``; for Rayleigh
     ``g = mbar e^mbar E1(mbar)`` as printed. ``E[P_k] <= Zbar_k`` (Theorem 3.3).
+
+    Parameters
+    ----------
+    A : array_like
+        State transition ``(n, n)``, finite.
+    c : array_like
+        Measurement row ``(n,)``, finite.
+    Sigma_w : array_like
+        Process-noise covariance ``(n, n)``, symmetric PSD.
+    sigma_v2 : float
+        Measurement-noise variance, ``>= 0``.
+    sigma_n2 : float
+        Channel-noise variance, ``> 0``.
+    channel : Rayleigh or Nakagami
+        The law of the power gain.
+    P0 : array_like
+        ``E[P_0]`` ``(n, n)``, symmetric PSD.
+    steps : int
+        Number of steps, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Zbar`` ``(steps + 1, n, n)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, negative where a variance is expected, of the
+        wrong shape or type, or if the variances overflow (``|a|`` too large for ``steps``).
     """
     A, c, Sw, sv2, sn2, P0, steps = _vector_args(A, c, Sigma_w, sigma_v2, sigma_n2, P0, steps)
     ch = _channel(channel)
