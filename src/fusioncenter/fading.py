@@ -801,7 +801,7 @@ def multisensor_paths(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, step
     sigma_v2 : array_like
         Measurement-noise variances, one per sensor, ``>= 0``.
     sigma_n2 : array_like
-        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+        Channel noise, ``> 0``: a scalar (multi-access), a scalar or one per channel (orthogonal).
     lams : array_like
         Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
     sigma_w2 : float
@@ -852,7 +852,7 @@ def multisensor_mc(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, steps, 
     sigma_v2 : array_like
         Measurement-noise variances, one per sensor, ``>= 0``.
     sigma_n2 : array_like
-        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+        Channel noise, ``> 0``: a scalar (multi-access), a scalar or one per channel (orthogonal).
     lams : array_like
         Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
     sigma_w2 : float
@@ -965,7 +965,7 @@ def multisensor_bounds(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, p0, ste
     sigma_v2 : array_like
         Measurement-noise variances, one per sensor, ``>= 0``.
     sigma_n2 : array_like
-        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+        Channel noise, ``> 0``: a scalar (multi-access), a scalar or one per channel (orthogonal).
     lams : array_like
         Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
     sigma_w2 : float
@@ -1010,7 +1010,7 @@ def multisensor_bound_limits(access, a, c, sigma_v2, sigma_n2, lams, sigma_w2, *
     sigma_v2 : array_like
         Measurement-noise variances, one per sensor, ``>= 0``.
     sigma_n2 : array_like
-        Channel noise: a scalar (multi-access), or a scalar or one per channel (orthogonal), ``> 0``.
+        Channel noise, ``> 0``: a scalar (multi-access), a scalar or one per channel (orthogonal).
     lams : array_like
         Rayleigh parameters ``1 / E[r_i]``, one per sensor, ``> 0``.
     sigma_w2 : float
