@@ -163,13 +163,53 @@ def _check_D(D, a, sigma_w2) -> np.ndarray:
 
 # ============================================================================== basics
 def stationary_variance(a, sigma_w2) -> np.ndarray:
-    """``E[x_k^2] = sigma_w2 / (1 - a^2)`` of the stationary state (|a| < 1)."""
+    """``E[x_k^2] = sigma_w2 / (1 - a^2)`` of the stationary state (|a| < 1).
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``sigma_w2 / (1 - a^2)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     a = _a(a)
     return _nonneg("sigma_w2", sigma_w2, "a variance") / (1.0 - a**2)
 
 
 def kappa(a, sigma_w2, c, sigma_v2) -> np.ndarray:
-    """``kappa_i = E[y_i^2] = c_i^2 sigma_w2 / (1 - a^2) + sigma_v2_i``: power per unit alpha^2."""
+    """``kappa_i = E[y_i^2] = c_i^2 sigma_w2 / (1 - a^2) + sigma_v2_i``: power per unit alpha^2.
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c : array_like
+        ``(..., M)``, finite.
+    sigma_v2 : array_like
+        ``(..., M)``, ``> 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``kappa`` ``(..., M)``, finite.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     s = _sensors(c=c, sigma_v2=sigma_v2)
     _positive("sigma_v2", s["sigma_v2"])
     with np.errstate(over="ignore"):
@@ -178,7 +218,29 @@ def kappa(a, sigma_w2, c, sigma_v2) -> np.ndarray:
 
 
 def transmit_power(alpha, a, sigma_w2, c, sigma_v2) -> np.ndarray:
-    """Per-sensor transmit powers ``gamma_i = alpha_i^2 kappa_i`` (Section II.C)."""
+    """Per-sensor transmit powers ``gamma_i = alpha_i^2 kappa_i`` (Section II.C).
+
+    Parameters
+    ----------
+    alpha : array_like
+        ``(..., M)``, finite.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        As in :func:`kappa`.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``gamma_i`` ``(..., M)``, finite.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     s = _sensors(alpha=alpha, c=c)
     with np.errstate(over="ignore"):
         out = s["alpha"] ** 2 * kappa(a, sigma_w2, s["c"], sigma_v2)
@@ -192,6 +254,25 @@ def steady_state(a, sigma_w2, S) -> np.ndarray:
     ``S > 0`` any real ``a`` is allowed (Remark III.E.2). Reuses
     :func:`fusioncenter.riccati.scalar_steady_state` with ``c = sqrt(S)``, ``r = 1``.
     Broadcasts like a ufunc.
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, finite (``|a| >= 1`` allowed when ``S > 0``).
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    S : array_like
+        Signal-to-noise ratio, ``>= 0`` (arbitrarily large: ``S -> inf`` gives ``sigma_w2``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``P_inf``, finite, in ``[sigma_w2, sigma_w2 / (1 - a^2)]`` for ``|a| < 1``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     a = _a(a, stable=False)
     sigma_w2 = _nonneg("sigma_w2", sigma_w2, "a variance")
@@ -209,6 +290,25 @@ def required_snr(D, a, sigma_w2) -> np.ndarray:
 
     The inverse of :func:`steady_state` (which is decreasing in ``S``, Lemma 1); the right-hand
     side of (25) and ``x / y`` of problem (19).
+
+    Parameters
+    ----------
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+
+    Returns
+    -------
+    numpy.ndarray
+        The SNR at which ``P_inf = D``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     a = _a(a)
     sigma_w2 = _positive("sigma_w2", sigma_w2, _TARGET_NEEDS_NOISE)
@@ -217,7 +317,33 @@ def required_snr(D, a, sigma_w2) -> np.ndarray:
 
 
 def snr(access, alpha, h, c, sigma_v2, sigma_n2) -> np.ndarray:
-    """``S`` (multi-access) or ``S^o`` (orthogonal) of Section II.D for static channels."""
+    """``S`` (multi-access) or ``S^o`` (orthogonal) of Section II.D for static channels.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    alpha : array_like
+        ``(..., M)``, finite (any magnitude: the formula is rescaled where it would overflow).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``S >= 0``, at most ``sum_i c_i^2 / sigma_v2_i``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     access = _access(access)
     s = _sensors(alpha=alpha, h=h, c=c, sigma_v2=sigma_v2)
     _positive("h", s["h"], "a channel gain magnitude")
@@ -263,6 +389,30 @@ def symmetric_asymptotics(access, scaling, a, sigma_w2, h, c, sigma_v2, sigma_n2
     * orthogonal, none:    (12):           ``(sigma_w2, a^2 (sigma_v2 + sigma_n2/h^2) / c^2)``
     * multi-access, sqrt:  (13):           the same as (12)
     * orthogonal, sqrt:    (14): the limit exceeds ``sigma_w2`` (no 1/M law to ``sigma_w2``).
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    scaling : str
+        ``"none"`` or ``"sqrt"``.
+    a : array_like
+        State transition, finite (``|a| >= 1`` allowed when ``S > 0``).
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    h, c, sigma_v2 : array_like
+        Scalars: ``h > 0``, ``c != 0``, ``sigma_v2 > 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+
+    Returns
+    -------
+    limit, coefficient : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     if scaling not in ("none", "sqrt"):
@@ -304,6 +454,32 @@ def lemma4_bounds(M, a, sigma_w2, sigma_n2, h_range, c_range, sigma_v2_range, *,
     ``steady_state`` at the smallest and largest SNR the ranges allow, which bound ``P_inf`` for
     every ``M`` (Lemma 1). The printed upper bound is itself exact (``P_inf < sigma_w2 + a^2/S``
     for every S > 0); the printed lower bound is not guaranteed for small ``M``.
+
+    Parameters
+    ----------
+    M : array_like
+        Number of sensors, ``> 0``.
+    a : array_like
+        State transition, finite (``|a| >= 1`` allowed when ``S > 0``).
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+    h_range, c_range, sigma_v2_range : tuple
+        ``(min, max)``, ``> 0``.
+    scaling : str
+        ``"sqrt"`` or ``"none"``.
+    exact : bool
+        Bounds valid for every ``M`` instead of the printed asymptotic ones.
+
+    Returns
+    -------
+    lower, upper : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     if scaling not in ("none", "sqrt"):
         raise ValueError(f"scaling must be 'none' or 'sqrt', got {scaling!r}")
@@ -383,6 +559,33 @@ def coherent_min_power(rho, tau, kappa, sigma_n2, x, y, *, infeasible: str = "ra
     x tau_i)``, which is concave and increasing, so the iterates from ``nu = 0`` increase
     monotonically to the root. Leading axes broadcast; ``infeasible="nan"`` returns NaN rows
     instead of raising :class:`InfeasibleError`.
+
+    Parameters
+    ----------
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+    x, y : array_like
+        The constants of the constraint, ``> 0``.
+    infeasible : str
+        ``"raise"`` or ``"nan"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
     sn = _noisy(sn)
@@ -420,6 +623,29 @@ def coherent_max_snr(rho, tau, kappa, sigma_n2, gamma_total):
     by ``kappa_i`` outside; that misses the power budget and is suboptimal unless all
     ``kappa_i`` are equal, and spends ``gamma_total`` only if moreover every ``kappa_i = 1``
     (see :func:`coherent_max_snr_printed`).
+
+    Parameters
+    ----------
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
     g = _nonneg("gamma_total", gamma_total, "a power")
@@ -443,6 +669,29 @@ def coherent_max_snr_printed(rho, tau, kappa, sigma_n2, gamma_total):
     rho_i^2 / ((kappa_i + gamma tau_i / sigma_n2)^2 kappa_i)``. Its direction is optimal only
     when all ``kappa_i`` are equal, and then it spends ``kappa gamma_total``: it is the optimum
     only if every ``kappa_i = 1``. Use :func:`coherent_max_snr`.
+
+    Parameters
+    ----------
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        ``> 0``.
+    gamma_total : array_like
+        ``> 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
     sn = _positive("sigma_n2", sn)
@@ -486,6 +735,35 @@ def orthogonal_min_power(rho, tau, kappa, sigma_n2, x, y, *, infeasible: str = "
     rho_i^2 / tau_i - x/y)`` for sensors sorted by ``rho_i^2 / kappa_i``. ``M_1`` is the number
     of sensors the KKT conditions keep on: the ``m`` for which sensor ``m`` is on and sensor
     ``m + 1`` is off under ``lambda(m)``.
+
+    Parameters
+    ----------
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+    x, y : array_like
+        The constants of the constraint, ``> 0``.
+    infeasible : str
+        ``"raise"`` or ``"nan"``.
+    return_m1 : bool
+        Also return ``M_1``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
     sn = _noisy(sn)
@@ -529,6 +807,31 @@ def orthogonal_max_snr(rho, tau, kappa, sigma_n2, gamma_total, *, return_m1: boo
     sigma_n2)^+ / tau_i`` with ``1/sqrt(lambda) = (gamma_total + sum_{i<=M_1} kappa_i sigma_n2 /
     tau_i) / sum_{i<=M_1} |rho_i| sqrt(kappa_i sigma_n2) / tau_i``; ``M_1`` is the last ``m``
     whose sensor is on under ``lambda(m)`` (the printed rule).
+
+    Parameters
+    ----------
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+    return_m1 : bool
+        Also return ``M_1`` (0 when ``gamma_total = 0``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     rho, tau, kap, sn = _general(rho, tau, kappa, sigma_n2)
     g = _nonneg("gamma_total", gamma_total, "a power")
@@ -593,7 +896,30 @@ def _orthogonal_max_snr_ideal(rho, tau, kap, g, sn, lead, return_m1):
 def static_coefficients(a, sigma_w2, h, c, sigma_v2):
     """``(rho, tau, kappa)`` of problems (19)/(26) for static channels with CSI:
     ``rho_i = h_i c_i``, ``tau_i = h_i^2 sigma_v2_i``, ``kappa_i = c_i^2 sigma_w2/(1-a^2) +
-    sigma_v2_i``."""
+    sigma_v2_i``.
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+
+    Returns
+    -------
+    rho, tau, kappa : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     s = _sensors(h=h, c=c, sigma_v2=sigma_v2)
     _positive("h", s["h"], "a channel gain magnitude")
     _positive("sigma_v2", s["sigma_v2"])
@@ -619,7 +945,39 @@ def _threshold_message(D, a, sigma_w2, c, sigma_v2, access) -> str:
 
 def min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> np.ndarray:
     """Least total transmit power with ``P_inf <= D``: problem (18) (multi-access) or (25)
-    (orthogonal). Returns ``alpha``; raises :class:`InfeasibleError` if (20) fails."""
+    (orthogonal). Returns ``alpha``; raises :class:`InfeasibleError` if (20) fails.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     access = _access(access)
     x, y = _xy_of(D, a, sigma_w2)
     rho, tau, kap = static_coefficients(a, sigma_w2, h, c, sigma_v2)
@@ -633,7 +991,37 @@ def min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> np.ndarray:
 
 def min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> np.ndarray:
     """Least ``P_inf`` with total power ``<= gamma_total``: problem (23) (multi-access) or (28)
-    (orthogonal), both maximizing the SNR (Lemmas 1, 2). Returns ``alpha``."""
+    (orthogonal), both maximizing the SNR (Lemmas 1, 2). Returns ``alpha``.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     access = _access(access)
     rho, tau, kap = static_coefficients(a, sigma_w2, h, c, sigma_v2)
     sn = _nonneg("sigma_n2", sigma_n2, "a variance")
@@ -649,6 +1037,29 @@ def equal_power(a, sigma_w2, c, sigma_v2, *, gamma=None, gamma_total=None) -> np
     ``alpha_i = sign(c_i) sqrt(gamma (1 - a^2) / (c_i^2 sigma_w2 + sigma_v2_i (1 - a^2)))``: the
     sign makes ``alpha_i c_i >= 0`` as in the proof of Lemma 4, so that the multi-access sum is
     coherent (the paper's (15) writes the positive root; with ``c_i > 0`` they agree).
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        As in :func:`kappa`.
+    gamma : array_like, optional
+        Power per sensor, ``>= 0``.
+    gamma_total : array_like, optional
+        Total power shared equally, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     if (gamma is None) == (gamma_total is None):
         raise ValueError("give exactly one of gamma (per sensor, (15)) and gamma_total ((16))")
@@ -670,6 +1081,37 @@ def equal_power_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2) -> n
     (the same as the optimal allocation's; ``gamma`` by bisection on the monotone SNR). Raises
     :class:`InfeasibleError` if the target is above the ceiling. Leading axes broadcast; with
     several instances, infeasible ones give NaN rows (and no error) when any is feasible.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     x, y = _xy_of(D, a, sigma_w2)
@@ -739,6 +1181,41 @@ def csi_min_power_step(access, P, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *,
     When ``a^2 P + sigma_w2 <= D`` the target is met without transmitting (``alpha = 0``).
     Feasibility needs ``sum c_i^2 / sigma_v2_i > (a^2 P + sigma_w2 - D) / (P (D - sigma_w2))``,
     which does not depend on the channel gains.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    P : array_like
+        ``P_k``, ``> 0``.
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+    infeasible : str
+        ``"raise"`` or ``"nan"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     x, y = _csi_xy(P, D, a, sigma_w2)
@@ -753,7 +1230,37 @@ def csi_min_power_step(access, P, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *,
 
 def csi_min_error_step(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2):
     """One greedy step of (31) (or its orthogonal counterpart): maximize this step's SNR with
-    power ``gamma_total``; it does not depend on ``P_k``. Returns ``alpha``."""
+    power ``gamma_total``; it does not depend on ``P_k``. Returns ``alpha``.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    h : array_like
+        Channel gains ``(..., M)``, ``> 0``.
+    c : array_like
+        Measurement gains ``(..., M)``, finite.
+    sigma_v2 : array_like
+        Measurement-noise variances ``(..., M)``, ``> 0``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     return min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2)
 
 
@@ -776,6 +1283,39 @@ def greedy_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *, P0=Non
     power)``: ``P`` shaped ``(..., steps + 1)`` (``P[..., 0] = P0``, default ``D``) and the sum
     power of each step ``(..., steps)``. Once a step has met the target with equality, ``P_k =
     D`` and every later step solves the same problem: those steps are solved together.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+    h : array_like
+        Channel gains ``(..., steps, M)``, ``> 0``.
+    c, sigma_v2 : array_like
+        One time slice ``(..., M)``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0`` (with an ideal channel the minimum power is not attained).
+    P0 : array_like, optional
+        ``P_0`` (default ``D``).
+    infeasible : str
+        ``"raise"`` or ``"nan"``.
+
+    Returns
+    -------
+    P, power : numpy.ndarray
+        ``(..., steps + 1)`` and ``(..., steps)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     h, c, sv = _time_slices(h, c, sigma_v2)
@@ -844,6 +1384,34 @@ def greedy_min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2,
     SNR with power ``gamma_total``. Returns ``(P, S, power)``: ``P`` shaped ``(..., steps + 1)``
     (``P[..., 0] = P0``, default ``sigma_w2 / (1 - a^2)``), the per-step SNR and sum power
     ``(..., steps)``.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    h : array_like
+        Channel gains ``(..., steps, M)``, ``> 0``.
+    c, sigma_v2 : array_like
+        One time slice ``(..., M)``.
+    sigma_n2 : array_like
+        Receiver-noise variance, ``>= 0`` (``0``: an ideal channel).
+    P0 : array_like, optional
+        ``P_0`` (default the stationary variance).
+
+    Returns
+    -------
+    P, S, power : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     h, c, sv = _time_slices(h, c, sigma_v2)
@@ -860,7 +1428,25 @@ def greedy_min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2,
 
 # ==================================================================== fading without CSI
 def beamformed(alpha, h_mean) -> np.ndarray:
-    """``alpha~_i = alpha_i conj(E h~_i) / |E h~_i|``: beamforming on the mean channel."""
+    """``alpha~_i = alpha_i conj(E h~_i) / |E h~_i|``: beamforming on the mean channel.
+
+    Parameters
+    ----------
+    alpha : array_like
+        Real amplification factors ``(..., M)``.
+    h_mean : array_like
+        Complex channel means, non-zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex ``alpha~``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     s = _sensors(alpha=alpha, h_mean_abs=np.abs(np.asarray(h_mean)))
     m = np.asarray(h_mean, dtype=complex)
     if np.any(np.abs(m) == 0):
@@ -892,6 +1478,34 @@ def lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, 
     ``Cov(Re g, Im g) (c_i^2 sigma_w2/(1-a^2) + sigma_v2_i)`` of the off-diagonal term, which
     the printed ``Rbar`` omits; it vanishes when ``Var Re h~ = Var Im h~`` (as in the paper's
     Rician example) or ``alpha~`` is real or imaginary.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    alpha_t : array_like
+        Complex amplification factors ``(..., M)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        Per-sensor gains (finite) and noise variances (``> 0``).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0``.
+    h_mean : array_like
+        Complex channel means ``(..., M)``, non-zero.
+    h_var_re, h_var_im : array_like
+        Variances of their real and imaginary parts, ``>= 0``.
+
+    Returns
+    -------
+    Cbar, Rbar : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     s = _sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
@@ -963,6 +1577,28 @@ def lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im):
     sigma_w2/(1-a^2) + E[Re^2 g_i] sigma_v2_i`` per unit ``alpha_i^2`` (from (33)). The reduction
     needs ``Cov(Re g_i, Im g_i) = 0``: equal variances of Re and Im of ``h~_i`` (as in the
     paper's Rician example) or a real or imaginary mean; otherwise ``ValueError``.
+
+    Parameters
+    ----------
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        Per-sensor gains and noise variances (``> 0``).
+    h_mean : array_like
+        Complex channel means, non-zero.
+    h_var_re, h_var_im : array_like
+        ``>= 0``; equal where the mean is neither real nor imaginary.
+
+    Returns
+    -------
+    rho, tau, kappa : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     s = _sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
                  h_mean_abs=np.abs(np.asarray(h_mean)))
@@ -986,7 +1622,37 @@ def lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im):
 def lmmse_steady_state(access, alpha, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, h_var_re,
                        h_var_im) -> np.ndarray:
     """Steady-state prediction MSE of the no-CSI linear MMSE estimator with ``alpha~ =
-    beamformed(alpha, h_mean)``: eq. (8) at ``S = Cbar^T Rbar^{-1} Cbar``."""
+    beamformed(alpha, h_mean)``: eq. (8) at ``S = Cbar^T Rbar^{-1} Cbar``.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    alpha : array_like
+        Real amplification factors ``(..., M)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        Per-sensor gains (finite) and noise variances (``> 0``).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0``.
+    h_mean : array_like
+        Complex channel means ``(..., M)``, non-zero.
+    h_var_re, h_var_im : array_like
+        Variances of their real and imaginary parts, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The steady-state prediction MSE.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     alpha_t = beamformed(alpha, h_mean)
     C, R = lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean,
                           h_var_re, h_var_im)
@@ -996,7 +1662,41 @@ def lmmse_steady_state(access, alpha, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean
 def lmmse_min_power(access, D, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, h_var_re,
                     h_var_im, *, infeasible: str = "raise") -> np.ndarray:
     """No CSI: least total power with steady-state MSE ``<= D`` (a variant of (19) / (26)).
-    Returns the real ``alpha`` (transmit ``beamformed(alpha, h_mean)``)."""
+    Returns the real ``alpha`` (transmit ``beamformed(alpha, h_mean)``).
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    D : array_like
+        Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``> 0`` (with 0 no error target exists).
+    c, sigma_v2 : array_like
+        Per-sensor gains (finite) and noise variances (``> 0``).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0``.
+    h_mean : array_like
+        Complex channel means ``(..., M)``, non-zero.
+    h_var_re, h_var_im : array_like
+        Variances of their real and imaginary parts, ``>= 0``.
+    infeasible : str
+        ``"raise"`` or ``"nan"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     access = _access(access)
     x, y = _xy_of(D, a, sigma_w2)
     rho, tau, kap = lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im)
@@ -1015,7 +1715,37 @@ def lmmse_min_power(access, D, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, h_var
 def lmmse_min_error(access, gamma_total, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, h_var_re,
                     h_var_im) -> np.ndarray:
     """No CSI: least steady-state MSE with total power ``<= gamma_total`` (a variant of (23) /
-    (28)). Returns the real ``alpha``."""
+    (28)). Returns the real ``alpha``.
+
+    Parameters
+    ----------
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    gamma_total : array_like
+        Total power, ``>= 0`` (``0``: nothing is sent).
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        Per-sensor gains (finite) and noise variances (``> 0``).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0``.
+    h_mean : array_like
+        Complex channel means ``(..., M)``, non-zero.
+    h_var_re, h_var_im : array_like
+        Variances of their real and imaginary parts, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplification factors ``alpha`` ``(..., M)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
+    """
     access = _access(access)
     rho, tau, kap = lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im)
     sn = _positive("sigma_n2", sigma_n2)
@@ -1032,6 +1762,31 @@ def lmmse_filter(z, a, sigma_w2, Cbar, Rbar, *, P0=None):
     predictions ``xhat_{k|k-1}`` ``(..., steps + 1)`` and their variances ``P_{k|k-1}``
     ``(steps + 1,)``. The printed (32) lacks ``+ sigma_w2`` in the time update and ``Cbar
     P_{k+1|k}`` at the end of the measurement update.
+
+    Parameters
+    ----------
+    z : array_like
+        Observations ``(..., steps, d)``, finite.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    Cbar : array_like
+        ``(d,)``.
+    Rbar : array_like
+        ``(d, d)``, symmetric positive definite.
+    P0 : float, optional
+        ``P_{0|-1} >= 0`` (default the stationary variance).
+
+    Returns
+    -------
+    xp, P : numpy.ndarray
+        Predictions ``(..., steps + 1)`` and variances ``(steps + 1,)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     a = float(_a(a))
     sw = float(_nonneg("sigma_w2", sigma_w2, "a variance"))
@@ -1066,6 +1821,38 @@ def simulate_nocsi(rng: np.random.Generator, n: int, steps: int, access, alpha_t
 
     Channels ``h~_{i,k} = h_mean_i + sqrt(h_var_re_i) N + j sqrt(h_var_im_i) N'``, i.i.d. over
     time; receiver noise with ``sigma_n2`` in each of its real and imaginary parts.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The source of randomness.
+    n, steps : int
+        Runs and time steps, ``>= 1``.
+    access : str
+        ``"multi-access"`` or ``"orthogonal"``.
+    alpha_t : array_like
+        Complex amplification factors.
+    a : array_like
+        State transition, ``|a| < 1``.
+    sigma_w2 : array_like
+        Process-noise variance, ``>= 0`` (``0``: deterministic dynamics).
+    c, sigma_v2 : array_like
+        Per-sensor gains (finite) and noise variances (``> 0``).
+    sigma_n2 : array_like
+        Receiver-noise variance, ``> 0``.
+    h_mean : array_like
+        Complex channel means ``(..., M)``, non-zero.
+    h_var_re, h_var_im : array_like
+        Variances of their real and imaginary parts, ``>= 0``.
+
+    Returns
+    -------
+    x, xhat_pred, P : numpy.ndarray
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     access = _access(access)
     if not isinstance(rng, np.random.Generator):
@@ -1131,6 +1918,39 @@ def solve_numerically(problem: str, rho, tau, kappa, sigma_n2, *, x=None, y=None
     sum beta_i rho_i >= sqrt(x) ||(sqrt(tau) beta, sigma_n)||`` (the ``s > 0`` sheet), (26) and
     (28) are convex in ``alpha_i^2 >= 0``; (23) is a generalized Rayleigh quotient, solved from
     ``starts`` random starts (best kept).
+
+    Parameters
+    ----------
+    problem : str
+        One of the four problem names.
+    rho : array_like
+        ``(..., M)``, finite, not all zero.
+    tau : array_like
+        ``(..., M)``, ``> 0``.
+    kappa : array_like
+        ``(..., M)``, ``> 0``.
+    sigma_n2 : float
+        ``> 0``.
+    x, y : float, optional
+        Constraint constants of the min-power problems, ``> 0``.
+    gamma_total : float, optional
+        Budget of the max-SNR problems, ``> 0``.
+    starts : int
+        Random starts for (23), ``>= 1``.
+    seed : int
+        Non-negative integer seed.
+
+    Returns
+    -------
+    alpha : numpy.ndarray
+    value : float
+
+    Raises
+    ------
+    InfeasibleError
+        If the target cannot be met (a ``ValueError`` stating the threshold).
+    ValueError
+        Naming the argument that is NaN, infinite, out of range or of inconsistent shape.
     """
     from scipy.optimize import minimize
 
