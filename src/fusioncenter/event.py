@@ -604,10 +604,12 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
             Rk = np.broadcast_to(r[:, None] * eye, (n, m, m))
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)  # (n, nx, m)
         S = Ck @ PCt + Rk
+        sing = bool(np.any(np.diagonal(Rk, axis1=-2, axis2=-1) == 0))  # R_k is diagonal
         w = riccati.solve_psd(S, np.where(g, z, 0.0)[:, :, None],  # S^{-1} Gamma z
-                              singular=riccati.singular(Rk))
+                              singular=sing)
         xpost = xpred + (PCt @ w)[:, :, 0]
-        Pk = riccati.measurement_update(Ppred, Ck, Rk, check=False)  # P0, r checked
+        Pk = riccati.measurement_update(Ppred, Ck, Rk, check=False,  # P0, r checked
+                                        r_singular=sing)
         xhat[:, k] = xpost
         Ppost[:, k] = Pk
         xpred = xpost @ A.T

@@ -288,8 +288,11 @@ def singular(R) -> bool:
     _check_square("R", R)
     if R.size == 0:
         return False
-    low = np.linalg.eigvalsh(R)[..., 0]
+    d = np.diagonal(R, axis1=-2, axis2=-1)
     scale = np.abs(R).max(axis=(-2, -1))
+    if not np.any(R - d[..., None] * np.eye(R.shape[-1])):  # diagonal: the eigenvalues are d
+        return bool(np.any(d.min(axis=-1) <= PINV_RCOND * scale))
+    low = np.linalg.eigvalsh(R)[..., 0]
     return bool(np.any(low <= PINV_RCOND * scale))
 
 
@@ -333,12 +336,12 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
         return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
 
 
-def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray) -> np.ndarray:
+def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray, sing: bool | None = None) -> np.ndarray:
     Ct = np.swapaxes(C, -1, -2)
     PCt = P @ Ct
     S = C @ PCt + R
     # K^T = S^{-1} (P C^T)^T, solved rather than inverted.
-    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2), singular=singular(R))
+    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2), singular=singular(R) if sing is None else sing)
     return _sym(P - PCt @ Kt)
 
 
@@ -349,7 +352,8 @@ def _check_update_shapes(P, C, R) -> None:
         raise ValueError(f"R is {R.shape[-1]}x{R.shape[-1]} but C has {C.shape[-2]} rows")
 
 
-def measurement_update(P, C, R, *, check: bool = True) -> np.ndarray:
+def measurement_update(P, C, R, *, check: bool = True,
+                       r_singular: bool | None = None) -> np.ndarray:
     """``P - P C^T (C P C^T + R)^{-1} C P`` (batched), symmetrized.
 
     ``R`` may be singular (noise-free sensors, ``R = 0``): where ``C P C^T + R`` is singular the
@@ -371,6 +375,9 @@ def measurement_update(P, C, R, *, check: bool = True) -> np.ndarray:
     check : bool
         Check that ``P`` and ``R`` are symmetric PSD (default); ``False`` checks only shapes
         and finiteness.
+    r_singular : bool, optional
+        Whether ``R`` is singular (see :func:`singular`), if the caller knows it already (a
+        diagonal ``R`` of known variances); computed when omitted.
 
     Returns
     -------
@@ -392,7 +399,7 @@ def measurement_update(P, C, R, *, check: bool = True) -> np.ndarray:
         _check_square("R", R)
     C = _as_matrix("C", C)
     _check_update_shapes(P, C, R)
-    return _update(P, C, R)
+    return _update(P, C, R, r_singular)
 
 
 def riccati_step(P, A, Q, C, R, *, check: bool = True) -> np.ndarray:

@@ -293,10 +293,11 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         Rk = noise[:, :, None] * eye
         PCt = Ppred @ np.swapaxes(Ck, -1, -2)
         S = Ck @ PCt + Rk
-        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None],
-                              singular=riccati.singular(Rk))
+        sing = bool(np.any(noise == 0))  # R_k = diag(noise)
+        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None], singular=sing)
         xpost = xpred + (PCt @ w)[:, :, 0]
-        Ppost = riccati.measurement_update(Ppred, Ck, Rk, check=False)  # computed Ppred
+        Ppost = riccati.measurement_update(Ppred, Ck, Rk, check=False,  # computed Ppred
+                                           r_singular=sing)
         xhat[:, t], Ps[:, t] = xpost, Ppost
         sent_all[:, t], arr_all[:, t] = sent, arrived
         xpred = xpost @ F.T
