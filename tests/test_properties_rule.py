@@ -281,3 +281,14 @@ def test_psd_factor_of_valid_singular_and_zero_matrices():
         particle.psd_factor(-np.eye(2))
     with pytest.raises(ValueError, match="^M must be symmetric"):
         particle.psd_factor([[1.0, 1.0], [0.0, 1.0]])
+
+
+def test_registry_seed_accepts_numpy_integers_and_rejects_bool():
+    """The registry's seed check (it accepted True and refused np.int64)."""
+    from fusioncenter import figures
+
+    entry = figures.get("dey2009-fig1")
+    with pytest.raises(ValueError, match="^seed must be a non-negative integer"):
+        entry.run_compute("fast", True)
+    with pytest.raises(ValueError, match="^seed must be a non-negative integer"):
+        entry.run_compute("fast", np.int64(-1))

@@ -16,6 +16,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from fusioncenter.profile import check_profile
 
 __all__ = [
@@ -120,8 +122,10 @@ class Entry:
         (the tests, nbval, the command line), every call computes.
         """
         check_profile(profile)
-        if seed is not None and (not isinstance(seed, int) or seed < 0):
-            raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        if seed is not None:  # a NumPy integer is a seed, True is not
+            if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+                raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+            seed = int(seed)
         seed = self.seed if seed is None else seed
         folder = os.environ.get(CACHE_ENV, "").strip()
         path = Path(folder) / f"{self.id}.{profile}.{seed}.pickle" if folder else None
