@@ -172,3 +172,15 @@ def test_zheng2014_cross_covariance_starts_at_P0_not_zero():
         Ia, Ib = np.eye(2) - np.outer(w[0], h[0]), np.eye(2) - np.outer(w[1], h[1])
         cross_from_P0 = Ia @ pred[0] @ Ib.T  # (23)
         cross_from_0 = Ia @ pred[1] @ Ib.T
+
+
+def test_mo2015_constants_alpha_and_beta():
+    """The y-integral of the second display: int exp(-((y - ax)^2 / r + y^2 / delta) / 2) dy
+    = sqrt(2 pi r delta / (r + delta)) exp(-(ax)^2 / (2 (r + delta))), so beta / alpha =
+    sqrt(2 pi r delta / (r + delta))."""
+    for r, delta, ax in ((0.5, 2.0, 0.3), (2.0, 0.1, -1.7), (1.0, 1.0, 0.0)):
+        quad = scipy.integrate.quad(
+            lambda y, r=r, delta=delta, ax=ax: np.exp(-0.5 * ((y - ax) ** 2 / r + y**2 / delta)),
+            -np.inf, np.inf, epsabs=0, epsrel=1e-12)[0]
+        want = np.sqrt(2 * np.pi * r * delta / (r + delta)) * np.exp(-ax**2 / (2 * (r + delta)))
+        assert quad == pytest.approx(want, rel=1e-10)
