@@ -169,3 +169,31 @@ def test_compute_cache_keys_include_the_overrides(monkeypatch, tmp_path):
     assert e.run_compute("fast", 1, n="5")["n"] == 5  # same value, cached
     assert calls == [{}, {"n": 5}]
     assert len(list(tmp_path.iterdir())) == 2
+
+
+def test_parallel_computes_of_one_entry_share_the_cache(monkeypatch, tmp_path):
+    """Two chapters (here threads; the lock is a file lock, so processes too) needing the same
+    entry at once: one computes, the other waits and reads what it stored."""
+    import threading
+    import time
+
+    calls = []
+
+    def compute(profile, seed):
+        calls.append(seed)
+        time.sleep(0.5)
+        return {"x": np.arange(4.0)}
+
+    e = figures.Entry(id="book-lock-probe", paper="book", kind="figure", caption="c",
+                      chapter="book/intro", compute=compute)
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    out = []
+    threads = [threading.Thread(target=lambda: out.append(e.run_compute("fast", 3)))
+               for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert calls == [3] and len(out) == 3
+    assert all(np.array_equal(o["x"], np.arange(4.0)) for o in out)
+    assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.pickle"]

@@ -12,6 +12,7 @@ note says how and why).
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -213,9 +214,10 @@ class Entry:
         (one pickle per id, profile, seed and overrides) and read back by later calls, in any
         process: the book's build sets it to a folder inside its output that it wipes whenever
         the library, the lock or the configuration change (``tools/build_book.py``), so that a
-        chapter that gathers other chapters' entries does not run them a second time. Writes
-        are atomic (a temporary file renamed), so chapters executing in parallel may share the
-        folder: at worst two compute the same entry and store the same bytes. A file that
+        chapter that gathers other chapters' entries does not run them a second time. Chapters
+        executing in parallel share the folder safely: writes are atomic (a temporary file
+        renamed), and a process computing an entry holds a lock on it, so that another one
+        needing the same entry waits and reads it instead of computing it again. A file that
         cannot be read back is a :class:`ComputeCacheError`. Unset (the tests, nbval, the
         command line), every call computes.
         """
@@ -236,25 +238,32 @@ class Entry:
                 blob = json.dumps(sorted(over.items()), default=str).encode()
                 tag = "." + hashlib.sha256(blob).hexdigest()[:12]
             path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}.pickle"
-        if path is not None and path.exists():
-            try:
-                with path.open("rb") as fh:
-                    return pickle.load(fh)
-            except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt file)
-                raise ComputeCacheError(
-                    f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); "
-                    f"delete it (or the folder {CACHE_ENV} names) and run again") from None
         ctx = context.ExecutionContext(profile, seed, spec, over)
-        with context.activate(ctx):
-            data = compute(profile, seed, **over)
-        if not isinstance(data, dict):
-            raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
-        if path is not None:
-            path.parent.mkdir(parents=True, exist_ok=True)
+        if path is None:
+            return self._compute_in(ctx, compute, over)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with _locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
+            if path.exists():
+                try:
+                    with path.open("rb") as fh:
+                        return pickle.load(fh)
+                except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
+                    raise ComputeCacheError(
+                        f"compute cache file {path} is unreadable ({type(exc).__name__}: "
+                        f"{exc}); delete it (or the folder {CACHE_ENV} names) and run again"
+                    ) from None
+            data = self._compute_in(ctx, compute, over)
             tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
             with tmp.open("wb") as fh:
                 pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
             tmp.replace(path)  # atomic: a reader never sees half a file
+        return data
+
+    def _compute_in(self, ctx, compute, over: dict) -> dict:
+        with context.activate(ctx):
+            data = compute(ctx.profile, ctx.seed, **over)
+        if not isinstance(data, dict):
+            raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
         return data
 
     def run_plot(self, data: dict):
@@ -313,6 +322,23 @@ class Entry:
             "has_plot": self.plot is not None,
             "has_checks": self.checks is not None,
         }
+
+
+@contextlib.contextmanager
+def _locked(path: Path):
+    """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
+    the same cache file take turns, so the second one reads what the first stored. (A process
+    that opened the file just before its removal may compute it once more: harmless, the
+    bytes are the same.)"""
+    import fcntl
+
+    with path.open("a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 REGISTRY: dict[str, Entry] = {}
