@@ -68,6 +68,9 @@ def fingerprint(profile: str) -> str:
     h = hashlib.sha256(f"profile={profile}\n".encode())
     for rel in FINGERPRINT_INPUTS:
         path = ROOT / rel
+        if not path.exists():
+            h.update(f"{rel}: missing\0".encode())
+            continue
         files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
         for f in files:
             if "__pycache__" in f.parts or f.suffix == ".pyc" or ".egg-info" in str(f):
