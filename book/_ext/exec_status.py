@@ -40,6 +40,11 @@ def _table(header: list[str], rows: list[list[str]]) -> nodes.table:
     return table
 
 
+def _when(iso: str) -> str:
+    """``2026-12-01T23:05:49`` as ``2026-12-01 23:05``."""
+    return iso.replace("T", " ")[:16]
+
+
 class ExecutionStatus(SphinxDirective):
     has_content = False
 
@@ -59,14 +64,15 @@ class ExecutionStatus(SphinxDirective):
             para += ref
             secs = r.get("seconds")
             rows.append([para, r["profile"], "-" if secs is None else f"{secs:.1f}",
-                         "cache" if r["from_cache"] else "executed", r["executed"],
+                         "cache" if r["from_cache"] else "executed", _when(r["executed"]),
                          r["status"]])
         total = sum(r.get("seconds") or 0.0 for r in rec["chapters"])
         executed = [r for r in rec["chapters"] if not r["from_cache"]]
         stages = rec.get("stages", {})
         summary = nodes.paragraph(text=(
-            f"Profile {rec['profile']}, built {rec['built']}: {len(rec['chapters'])} notebook "
-            f"chapters, {len(executed)} executed in this build ({rec.get('jobs')} at a time), "
+            f"Profile {rec['profile']}, built {_when(rec['built'])}: {len(rec['chapters'])} "
+            f"notebook chapters, {len(executed)} executed in this build "
+            f"({rec.get('jobs')} at a time), "
             f"{len(rec['chapters']) - len(executed)} taken from the execution cache; their "
             f"execution times add up to {total:.1f} s"
             + (f", the execution stage took {stages['execution_s']:.1f} s of wall time"
