@@ -60,6 +60,7 @@ CASES = [
     # a zheng2014 particle-filter entry and a dey2009 Monte Carlo entry, made cheap
     ("zheng2014-fig1", {"trials": 300, "particles": 40}, zheng2014._fig1_runs.cache_clear),
     ("dey2009-fig1", {"paths": 2100, "grid_paths": 100}, None),
+    ("leong2011-fig3a", {"realizations": 40}, None),
 ]
 
 
@@ -108,7 +109,7 @@ def test_every_settable_parameter_is_documented_and_typed():
             for profile in ("fast", "paper"):
                 assert p.parse(p.default_for(profile)) is not None
             n += 1
-    assert n >= 30
+    assert n >= 40
     assert {p.name for p in figures.get("zheng2014-table1").settable} == {"trials", "particles",
                                                                          "N"}
 
