@@ -9,7 +9,7 @@ Cases (``REPEATS = 1``: the paper-scale case takes minutes; ``run.py`` adds one 
 * ``one block``: one block of 25 trials x 10^4 particles x 20 steps (1/8 of a paper-scale run)
   for CFoMD, CFwMD and CFwMD2;
 * ``paper scale``: the five registry entries from a cold cache, as the book's paper profile runs
-  them: 19 runs of 200 trials x 10^4 particles on :data:`zheng2014_nonlinear.WORKERS` worker
+  them: 19 runs of 200 trials x 10^4 particles on :func:`fusioncenter.context.cores` worker
   processes. Each call prints the wall time per entry, the peak resident memory of the whole
   process tree (sampled every 0.2 s from ``/proc``) and the load average of the machine.
 
@@ -26,7 +26,11 @@ import numpy as np
 
 from fusioncenter import censoring as cs
 from fusioncenter import censoring_nonlinear as cn
+from fusioncenter import context
 from fusioncenter.figures import zheng2014_nonlinear as zn
+
+#: The paper profile's default executor is a pool of one process per core.
+WORKERS = context.cores()
 
 REPEATS = 1
 IDS = ("zheng2014-fig7", "zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10",
@@ -97,13 +101,13 @@ def paper_scale(verbose: bool = True) -> dict:
     cpu = _cpu_seconds() - cpu0
     out = {"wall_s": time.perf_counter() - t0, "per_entry_s": times, "cpu_s": cpu,
            "peak_rss_mib": peak[0] / 2**20, "load_before": load0, "load_after": os.getloadavg(),
-           "workers": zn.WORKERS, "runs": len(zn._RUNS)}
+           "workers": WORKERS, "runs": len(zn._RUNS)}
     if verbose:
         per = ", ".join(f"{k.removeprefix('zheng2014-')} {v:.1f} s" for k, v in times.items())
-        print(f"\n[paper scale] {out['runs']} runs, {zn.WORKERS} workers: {out['wall_s']:.1f} s "
+        print(f"\n[paper scale] {out['runs']} runs, {WORKERS} workers: {out['wall_s']:.1f} s "
               f"({per}); CPU {cpu:.0f} s (this process and its finished workers; "
-              f"CPU / {zn.WORKERS} = {cpu / zn.WORKERS:.0f} s: the wall time on "
-              f"{zn.WORKERS} idle cores); peak RSS of the process tree "
+              f"CPU / {WORKERS} = {cpu / WORKERS:.0f} s: the wall time on "
+              f"{WORKERS} idle cores); peak RSS of the process tree "
               f"{out['peak_rss_mib']:.0f} MiB; load average before {load0[0]:.2f}, after "
               f"{out['load_after'][0]:.2f} (1 min)")
     return out

@@ -70,7 +70,8 @@ def test_paper_table_values_are_the_printed_ones():
 def test_fig2_and_table1_share_their_runs():
     f2, t1 = cached_data("zheng2014-fig2"), cached_data("zheng2014-table1")
     assert f2["n_trials"] == t1["n_trials"] and np.array_equal(f2["l"], t1["l"])
-    a, b = zheng2014._fig2_runs("fast", figures.get("zheng2014-fig2").seed)
+    a, b = zheng2014._fig2_runs(*zheng2014._fig2_args("fast", figures.get("zheng2014-fig2").seed,
+                                                      {}))
     assert a[2].average_transmissions[0] == t1["cfwmd"][2]
     assert b[2].time_averaged_rmse()[0] == f2["tavg_position"][1, 2]
 

@@ -40,8 +40,9 @@ def test_placeholders_are_replaced_and_parameters_are_the_papers():
 
 
 def test_fig5_and_table2_share_one_computation():
-    a, b = zv._fig5_runs("fast", figures.get("zheng2014-fig5").seed)
-    assert zv._fig5_runs("fast", figures.get("zheng2014-table2").seed)[0] is a
+    size = zv._size("fast", zv.TRIALS_FIG5, zv.PARTICLES_FIG5, {})
+    a, b = zv._fig5_runs(figures.get("zheng2014-fig5").seed, *size)
+    assert zv._fig5_runs(figures.get("zheng2014-table2").seed, *size)[0] is a
     d = cached_data("zheng2014-table2")
     assert np.allclose(d["cfwmd"], [r.average_transmissions[0] for r in a])
     assert np.allclose(d["cfwmd2"], [r.average_transmissions[0] for r in b])

@@ -115,9 +115,10 @@ def test_build_fingerprint_tracks_library_and_lock(tmp_path, monkeypatch):
     cache = out / "_build" / ".jupyter_cache"
     cache.mkdir(parents=True)
     (cache / "stale").write_text("old outputs")
-    bb.prepare(out, "fast")
+    want = bb.prepare(out, "fast")
     assert not (cache / "stale").exists()
     cache.mkdir(parents=True)
     (cache / "kept").write_text("current outputs")
+    bb.finish(out, want)  # the fingerprint is written only after a successful build
     bb.prepare(out, "fast")  # same inputs: the cache is kept
     assert (cache / "kept").exists()

@@ -1,34 +1,76 @@
-"""Build the Jupyter Book site in one profile, never leaving stale notebook outputs.
+"""Build the Jupyter Book site in one profile, chapters executed in parallel, never stale.
 
     python tools/build_book.py --profile paper            # the published site: _build/html
     python tools/build_book.py --profile fast --strict    # the test build: _build/fast/_build/html
 
+Two stages:
+
+1. **execution**: every notebook chapter not yet in the execution cache (jupyter-cache, in
+   ``<out>/_build/.jupyter_cache``, where jupyter-book looks) is executed, ``--jobs`` at a time
+   (default: one per core), each in its own process and kernel, longest first; the executed
+   notebooks are stored in the cache exactly as myst-nb stores them (same reader, same hash of
+   the code cells), so that:
+2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
+
+Registry results are shared between the chapters (and their parallel kernels) through
+``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``). The executor of the
+heavy entries is ``FUSIONCENTER_EXECUTOR`` if set, else the library's default.
+
 jupyter-cache keys a notebook's cached outputs on its cell sources only, so a change to the
-library (``src/``), to the pinned environment (``requirements/lock.txt``), to the configuration
-or to the profile would otherwise leave old outputs on the site. Each output folder therefore
-records a fingerprint of those inputs; when it differs, the folder's whole ``_build`` (HTML,
-doctrees and the execution cache) is removed first and everything is executed again.
+library (``src/``), to the pinned environment (``requirements/lock.txt``), to the configuration,
+to the local Sphinx extensions (``book/_ext``), to this tool or to the profile would otherwise
+leave old outputs on the site. Each output folder therefore records a fingerprint of those
+inputs, written only after a successful build; when it differs or is missing (a failed or an
+interrupted build), the folder's whole ``_build`` (HTML, doctrees, the execution and compute
+caches) is removed first and everything is executed again.
+
+The per-chapter record (profile, seconds, executed now or taken from the cache, date) goes to
+``<out>/_build/execution-status.json``; the book's status page renders it. Ctrl-C or SIGTERM
+stops every child (kernels included), says which stage was interrupted and exits 130 / 143.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime as dt
 import hashlib
+import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import tempfile
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import procs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
-FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml"]
+FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml",
+                      "book/_ext", "tools/build_book.py"]
+STAMP = ".fusioncenter-fingerprint"
+STATUS = "execution-status.json"
+TIMEOUT = 1800  # as _config.yml execute.timeout
+#: Chapters measured longest (paper profile, issue 16): started first so the lanes finish
+#: together. Others follow in table-of-contents order.
+LONGEST = ("book/zheng2014/particle-filter", "book/zheng2014/reading", "book/zheng2014/nonlinear",
+           "book/zheng2014/likelihood")
+
+_STAGE = ["preparing"]
 
 
 def fingerprint(profile: str) -> str:
     h = hashlib.sha256(f"profile={profile}\n".encode())
     for rel in FINGERPRINT_INPUTS:
         path = ROOT / rel
+        if not path.exists():
+            h.update(f"{rel}: missing\0".encode())
+            continue
         files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
         for f in files:
             if "__pycache__" in f.parts or f.suffix == ".pyc" or ".egg-info" in str(f):
@@ -37,54 +79,208 @@ def fingerprint(profile: str) -> str:
     return h.hexdigest()
 
 
-def prepare(out: Path, profile: str) -> None:
+def prepare(out: Path, profile: str) -> str:
+    """Wipe ``out/_build`` unless its fingerprint is current; remove the fingerprint (it is
+    written back by :func:`finish` after a successful build). Returns the fingerprint."""
     build = out / "_build"
-    stamp = build / ".fusioncenter-fingerprint"
+    stamp = build / STAMP
     want = fingerprint(profile)
     have = stamp.read_text().strip() if stamp.exists() else None
-    if have != want:
-        if build.exists():
-            print(f"build_book: inputs changed since the last {profile} build; "
-                  f"removing {build.relative_to(ROOT)} (HTML, doctrees, execution cache)",
-                  file=sys.stderr)
-            for child in build.iterdir():
-                if out == ROOT and child.name in ("fast", "test-reports"):
-                    continue  # the fast build and test reports live in the paper build's folder
-                shutil.rmtree(child) if child.is_dir() else child.unlink()
+    if have != want and build.exists():
+        why = "inputs changed since" if have else "no record of a finished"
+        print(f"build_book: {why} {profile} build; removing {build.relative_to(ROOT)} "
+              f"(HTML, doctrees, execution and compute caches)", file=sys.stderr)
+        for child in build.iterdir():
+            if out == ROOT and child.name in ("fast", "test-reports"):
+                continue  # the fast build and test reports live in the paper build's folder
+            shutil.rmtree(child) if child.is_dir() else child.unlink()
     build.mkdir(parents=True, exist_ok=True)
-    stamp.write_text(want + "\n")
+    stamp.unlink(missing_ok=True)
+    return want
+
+
+def finish(out: Path, want: str) -> None:
+    (out / "_build" / STAMP).write_text(want + "\n")
+
+
+# ------------------------------------------------------------------------------ execution
+def _read(path: Path):
+    from myst_nb.core.read import myst_nb_reader_plugin
+
+    return myst_nb_reader_plugin(str(path))
+
+
+def execute_one(src: Path, dest: Path) -> int:
+    """Child process: execute ``src`` as myst-nb would (in its folder) into ``dest``; print a
+    JSON line ``{"seconds", "error", "traceback"}``."""
+    import nbformat
+    from jupyter_cache.executors.utils import single_nb_execution
+
+    nb = _read(src)
+    res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
+                              meta_override=True)
+    nbformat.write(nb, str(dest))
+    print(json.dumps({"seconds": res.time, "error": type(res.err).__name__ if res.err else None,
+                      "traceback": res.exc_string}))
+    return 1 if res.err else 0
+
+
+def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict], list[str]]:
+    """Execute the chapters missing from the cache, ``jobs`` at a time. Returns the status
+    rows (one per notebook chapter) and the failed chapters."""
+    import nbformat
+    from jupyter_cache import get_cache
+    from jupyter_cache.base import CacheBundleIn
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    from chapters import notebook_chapters, source
+
+    cache = get_cache(str(out / "_build" / ".jupyter_cache"))
+    docs = notebook_chapters()
+    rows: dict[str, dict] = {}
+    todo = []
+    for doc in docs:
+        src = source(doc)
+        try:
+            rec = cache.match_cache_notebook(_read(src))
+        except KeyError:
+            todo.append(doc)
+            continue
+        rows[doc] = {"doc": doc, "profile": profile, "seconds": rec.data.get("execution_seconds"),
+                     "from_cache": True, "executed": rec.created.isoformat(timespec="seconds"),
+                     "status": "ok"}
+    todo.sort(key=lambda d: (LONGEST.index(d) if d in LONGEST else len(LONGEST),
+                             docs.index(d)))
+    print(f"build_book: execution: {len(docs) - len(todo)} of {len(docs)} chapters cached, "
+          f"executing {len(todo)} with {jobs} worker(s)", file=sys.stderr, flush=True)
+    lock = threading.Lock()
+    failed: list[str] = []
+    reports = out / "_build" / "reports"
+
+    def work(doc: str) -> None:
+        src = source(doc)
+        with tempfile.TemporaryDirectory() as tmp:
+            dest = Path(tmp) / "executed.ipynb"
+            t0 = time.perf_counter()
+            cp = [sys.executable, str(Path(__file__).resolve()), "--execute-one", str(src),
+                  str(dest)]
+            log = Path(tmp) / "out.json"
+            with log.open("w") as fh:
+                rc = procs.run(f"execute {doc}", cp, cwd=ROOT, env=env, stdout=fh,
+                               stdin=subprocess.DEVNULL)
+            wall = time.perf_counter() - t0
+            lines = log.read_text().strip().splitlines()
+            info = json.loads(lines[-1]) if lines and lines[-1].startswith("{") else {}
+            ok = rc == 0 and dest.exists() and not info.get("error")
+            row = {"doc": doc, "profile": profile, "seconds": info.get("seconds", wall),
+                   "from_cache": False,
+                   "executed": dt.datetime.now().isoformat(timespec="seconds"),
+                   "status": "ok" if ok else f"failed ({info.get('error') or f'exit {rc}'})"}
+            with lock:
+                if ok:
+                    nb = nbformat.read(str(dest), as_version=4)
+                    cache.cache_notebook_bundle(
+                        CacheBundleIn(nb, str(src), data={"execution_seconds": row["seconds"]}),
+                        check_validity=False, overwrite=True)
+                else:
+                    failed.append(doc)
+                    reports.mkdir(parents=True, exist_ok=True)
+                    rep = reports / (doc.replace("/", "__") + ".log")
+                    rep.write_text(info.get("traceback") or f"exit code {rc}\n")
+                    print(f"build_book: {doc} FAILED ({row['status']}); traceback: {rep}\n"
+                          + (info.get("traceback") or "")[-3000:], file=sys.stderr, flush=True)
+                rows[doc] = row
+                print(f"build_book:   {doc}: {row['status']} in {row['seconds']:.1f} s",
+                      file=sys.stderr, flush=True)
+
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        list(pool.map(work, todo))
+    return [rows[d] for d in docs if d in rows], failed
+
+
+def write_status(out: Path, profile: str, rows: list[dict], times: dict) -> Path:
+    path = out / "_build" / STATUS
+    path.write_text(json.dumps({
+        "profile": profile, "built": dt.datetime.now().isoformat(timespec="seconds"),
+        "jobs": times.get("jobs"), "stages": {k: v for k, v in times.items() if k != "jobs"},
+        "chapters": rows}, indent=1) + "\n")
+    return path
+
+
+# ------------------------------------------------------------------------------ main
+def _on_interrupt(out: Path):
+    def handler(signum: int, stages: list[str]) -> None:
+        (out / "_build" / STAMP).unlink(missing_ok=True)
+        name = signal.Signals(signum).name
+        print(f"\nbuild_book: {name}: interrupted during the {_STAGE[0]} stage"
+              + (f" ({', '.join(stages)})" if stages else "")
+              + "; every child stopped, no fingerprint written (the next build starts clean)",
+              file=sys.stderr, flush=True)
+        os._exit(procs.exit_code(signum))
+
+    return handler
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--profile", choices=sorted(OUTPUTS), required=True)
+    ap.add_argument("--profile", choices=sorted(OUTPUTS))
     ap.add_argument("--strict", action="store_true",
                     help="nitpicky, warnings are errors (-n -W --keep-going)")
+    ap.add_argument("--jobs", type=int, default=None,
+                    help="chapters executed at once (default: the number of cores)")
+    ap.add_argument("--execute-one", nargs=2, metavar=("SRC", "DEST"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.execute_one:
+        return execute_one(Path(args.execute_one[0]), Path(args.execute_one[1]))
+    if args.profile is None:
+        ap.error("--profile is required")
+    jobs = args.jobs or len(os.sched_getaffinity(0))
+    if jobs < 1:
+        ap.error("--jobs must be >= 1")
 
     out = OUTPUTS[args.profile]
-    prepare(out, args.profile)
+    procs.install_handlers(_on_interrupt(out))
+    t_all = time.perf_counter()
+    want = prepare(out, args.profile)
     # registry results are shared between chapters through a folder that prepare() wipes with
     # the rest of the build when the fingerprint changes
     env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, PYTHONHASHSEED="0",
                FUSIONCENTER_COMPUTE_CACHE=str(out / "_build" / "compute-cache"))
+    times: dict = {"jobs": jobs}
+
+    _STAGE[0] = "execution"
+    t0 = time.perf_counter()
+    rows, failed = preexecute(out, args.profile, env, jobs)
+    times["execution_s"] = round(time.perf_counter() - t0, 1)
+    write_status(out, args.profile, rows, times)
+    if failed:
+        print(f"build_book: FAILED: {len(failed)} chapter(s) raised: {', '.join(failed)}",
+              file=sys.stderr)
+        return 1
+
+    _STAGE[0] = "rendering"
     jb = Path(sys.executable).with_name("jupyter-book")
     cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html"]
     if args.strict:
         cmd += ["-n", "-W", "--keep-going"]
-    print("build_book:", " ".join(cmd), file=sys.stderr)
-    rc = subprocess.call(cmd, cwd=ROOT, env=env)
+    print("build_book:", " ".join(cmd), file=sys.stderr, flush=True)
+    t0 = time.perf_counter()
+    rc = procs.run("jupyter-book", cmd, cwd=ROOT, env=env)
+    times["rendering_s"] = round(time.perf_counter() - t0, 1)
+    times["total_s"] = round(time.perf_counter() - t_all, 1)
+    write_status(out, args.profile, rows, times)
     index = out / "_build" / "html" / "index.html"
     if rc != 0:
-        # Force a full re-execution next time: a failed build may have cached partial state.
-        (out / "_build" / ".fusioncenter-fingerprint").unlink(missing_ok=True)
         reports = out / "_build" / "html" / "reports"
         print(f"build_book: FAILED (exit {rc}); execution reports, if any: {reports}",
               file=sys.stderr)
-        return rc or 1
+        return rc if rc > 0 else 1
     if not index.exists():
         print(f"build_book: FAILED: {index} was not written", file=sys.stderr)
         return 1
+    finish(out, want)
+    print(f"build_book: execution {times['execution_s']:.1f} s ({jobs} jobs), rendering "
+          f"{times['rendering_s']:.1f} s, total {times['total_s']:.1f} s", file=sys.stderr)
     print(index)
     return 0
 

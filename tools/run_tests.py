@@ -14,11 +14,17 @@ Stages 2-3 (one after the other) and stage 4 run at the same time, one lane per 
 2-core machine: each executes notebooks or tests in a single process most of the time. Their
 output goes to ``_build/test-reports/<stage>.log`` and is printed whole when the stage ends.
 ``FUSIONCENTER_TEST_LANES=1`` runs every stage one after the other instead.
+
+Ctrl-C or SIGTERM stops every running stage with its whole process tree (kernels, jupyter-book,
+pytest workers: see ``tools/procs.py``), starts no further stage, prints which stages were
+interrupted and exits 130 (SIGINT) or 143 (SIGTERM). The interrupted site build leaves no
+fingerprint, so the next run builds it from scratch.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 import threading
@@ -26,6 +32,9 @@ import time
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import procs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -66,14 +75,14 @@ def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | Non
     if log:
         path = REPORTS / f"{name.replace(' ', '-')}.log"
         with path.open("w") as fh:
-            rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=fh, stderr=subprocess.STDOUT,
-                                 stdin=subprocess.DEVNULL)
+            rc = procs.run(name, cmd, cwd=ROOT, env=env, stdout=fh, stderr=subprocess.STDOUT,
+                           stdin=subprocess.DEVNULL)
         with _PRINT:
             print(f"\n===== {name}: output ({path.relative_to(ROOT)})", flush=True)
             sys.stdout.write(path.read_text(errors="replace"))
             sys.stdout.flush()
     else:
-        rc = subprocess.call(cmd, cwd=ROOT, env=env)
+        rc = procs.run(name, cmd, cwd=ROOT, env=env, stdin=subprocess.DEVNULL)
     dt = time.perf_counter() - t0
     stage = Stage(name, rc == 0, dt)
     if junit is not None:
@@ -111,7 +120,17 @@ def lanes(*lane_fns) -> list[Stage]:
     return [stage for lane in results for stage in lane]
 
 
+def _on_interrupt(signum: int, stages: list[str]) -> None:
+    name = signal.Signals(signum).name
+    with _PRINT:
+        print(f"\n===== make test: {name}: interrupted during "
+              f"{', '.join(stages) if stages else 'no running stage'}; every child stopped, "
+              f"no further stage started", flush=True)
+    os._exit(procs.exit_code(signum))
+
+
 def main() -> int:
+    procs.install_handlers(_on_interrupt)
     REPORTS.mkdir(parents=True, exist_ok=True)
     fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]

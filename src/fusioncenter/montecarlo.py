@@ -13,6 +13,10 @@ Every simulation in the book goes through :func:`simulate`. Its contract:
 * ``chunk_fn(rng, n)`` simulates ``n`` independent trials with the generator ``rng`` and returns an
   array shaped ``(n, ...)`` (vectorize across trials inside it). For a process pool or a cluster it
   must be picklable: a module-level function or a ``functools.partial`` of one.
+
+Registry entries take their executor from the execution context (:mod:`fusioncenter.context`:
+``serial``, ``processes[:N]``, ``dask:local`` or ``dask:ADDRESS``), set by ``--executor`` on the
+command line and ``FUSIONCENTER_EXECUTOR`` for the book.
 """
 
 from __future__ import annotations

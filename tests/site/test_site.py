@@ -237,3 +237,20 @@ def test_every_toc_page_built(site: Path) -> None:
     missing = [f for f in files
                if not (site / Path(f).with_suffix(".html")).is_file()]
     assert not missing, "pages of _toc.yml without HTML in the site: " + ", ".join(missing)
+
+
+def test_execution_status_page_lists_every_notebook_chapter(site):
+    """The status page (book/status.md, rendered by book/_ext/exec_status.py from the build's
+    execution record) has one row per notebook chapter, and the scorecard links to it."""
+    sys.path.insert(0, str(ROOT / "tools"))
+    from chapters import notebook_chapters
+
+    html = (site / "book" / "status.html").read_text(encoding="utf-8")
+    assert "No execution record" not in html
+    rows = re.findall(r"<tr[^>]*>(.*?)</tr>", html, flags=re.S)
+    body = [r for r in rows if "<td" in r]
+    assert len(body) == len(notebook_chapters())
+    for doc in notebook_chapters():
+        assert f'href="{doc.removeprefix("book/")}.html' in html, doc  # a link to it
+    assert all(re.search(r">\s*(cache|executed)\s*<", r) for r in body)
+    assert "status.html" in (site / "book" / "scorecard.html").read_text(encoding="utf-8")

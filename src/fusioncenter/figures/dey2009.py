@@ -22,7 +22,8 @@ import numpy as np
 import scipy.integrate
 import scipy.stats
 
-from fusioncenter import fading, plotting, riccati
+from fusioncenter import context, fading, plotting, riccati
+from fusioncenter.context import Parameter
 from fusioncenter.figures.registry import Claim, Entry, register
 from fusioncenter.profile import by_profile
 
@@ -165,7 +166,7 @@ def _scalar_runs(kind: str, sigma_vs, p0s, n: int, seed: int, keep_window: bool)
     mean, se, sb, qb, sl, ql, wd, wse = [], [], [], [], [], [], [], []
     for i, (sv, p0) in enumerate(zip(sigma_vs, p0s, strict=True)):
         res = fading.scalar_paths(s["a"], s["sigma_w2"], sv**2, s["sigma_n2"], ch, p0, STEPS, n,
-                                  seed + i, block_size=BLOCK)
+                                  seed + i, block_size=BLOCK, executor=context.executor())
         mean.append(res.mean)
         se.append(res.stderr)
         b = fading.scalar_bounds(s["a"], s["sigma_w2"], sv**2, s["sigma_n2"], ch, p0, STEPS)
@@ -186,9 +187,21 @@ def _scalar_runs(kind: str, sigma_vs, p0s, n: int, seed: int, keep_window: bool)
     return out
 
 
-def _compute_scalar(kind: str, profile: str, seed: int) -> dict:
-    n = by_profile(profile, **PATHS)
-    ng = by_profile(profile, **GRID_PATHS)
+#: The overridable parameters of Figs. 1-4 (Monte Carlo accuracy only: every claim applies).
+SETTABLE_PATHS = (
+    Parameter("paths", "int", "Monte Carlo paths of each main curve", dict(PATHS), minimum=2),
+    Parameter("grid_paths", "int", "Monte Carlo paths of each point of the parameter grid",
+              dict(GRID_PATHS), minimum=2),
+)
+
+
+def _paths(profile: str, over: dict) -> tuple[int, int]:
+    return (over.get("paths") or by_profile(profile, **PATHS),
+            over.get("grid_paths") or by_profile(profile, **GRID_PATHS))
+
+
+def _compute_scalar(kind: str, profile: str, seed: int, **over) -> dict:
+    n, ng = _paths(profile, over)
     main = _scalar_runs(kind, SIGMA_V, [P0] * len(SIGMA_V), n, seed, keep_window=True)
     grid = list(itertools.product(SCALAR_GRID["sigma_v"], SCALAR_GRID["p0"]))
     gsv = np.array([g[0] for g in grid])
@@ -214,12 +227,12 @@ def _compute_scalar(kind: str, profile: str, seed: int) -> dict:
     return data
 
 
-def compute_fig1(profile: str, seed: int) -> dict:
-    return _compute_scalar("rayleigh", profile, seed)
+def compute_fig1(profile: str, seed: int, **over) -> dict:
+    return _compute_scalar("rayleigh", profile, seed, **over)
 
 
-def compute_fig2(profile: str, seed: int) -> dict:
-    return _compute_scalar("nakagami", profile, seed)
+def compute_fig2(profile: str, seed: int, **over) -> dict:
+    return _compute_scalar("nakagami", profile, seed, **over)
 
 
 def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
@@ -339,6 +352,7 @@ register(Entry(
     label="sec-dey2009-fig1",
     parameters=_SCALAR_PARAMS,
     compute=compute_fig1,
+    settable=SETTABLE_PATHS,
     plot=plot_fig1,
     checks=_checks_scalar,
     status="reproduced",
@@ -359,6 +373,7 @@ register(Entry(
                 "eq20": "denominator sqrt(s2 l/2) + sqrt(s2 l/2 + 4/pi (q + s_v^2)) as derived; "
                 "the printed nested root is kept in the data as q_as_printed (see errata)"},
     compute=compute_fig2,
+    settable=SETTABLE_PATHS,
     plot=plot_fig2,
     checks=_checks_scalar,
     status="reproduced",
@@ -376,7 +391,8 @@ def _multi_runs(access: str, lam_pairs, n: int, seed: int, keep_window: bool,
     mean, se, sb, tb, sl, tl, wd, wse = [], [], [], [], [], [], [], []
     for i, lams in enumerate(lam_pairs):
         args = (access, m["a"], m["c"], m["sigma_v2"], m["sigma_n2"], lams, m["sigma_w2"])
-        res = fading.multisensor_paths(*args, p0, STEPS, n, seed + i, block_size=BLOCK)
+        res = fading.multisensor_paths(*args, p0, STEPS, n, seed + i, block_size=BLOCK,
+                                       executor=context.executor())
         mean.append(res.mean)
         se.append(res.stderr)
         b = fading.multisensor_bounds(*args, p0, STEPS)
@@ -397,9 +413,8 @@ def _multi_runs(access: str, lam_pairs, n: int, seed: int, keep_window: bool,
     return out
 
 
-def _compute_multi(access: str, profile: str, seed: int) -> dict:
-    n = by_profile(profile, **PATHS)
-    ng = by_profile(profile, **GRID_PATHS)
+def _compute_multi(access: str, profile: str, seed: int, **over) -> dict:
+    n, ng = _paths(profile, over)
     grid = list(itertools.product(LAM_GRID, LAM_GRID))
     data = {"access": access, "k": np.arange(STEPS + 1), "lams": np.array(LAMS), "p0": P0,
             "n_paths": n, "n_grid_paths": ng, "seed": seed, "grid_lams": np.array(grid)}
@@ -409,12 +424,12 @@ def _compute_multi(access: str, profile: str, seed: int) -> dict:
     return data
 
 
-def compute_fig3(profile: str, seed: int) -> dict:
-    return _compute_multi("multi-access", profile, seed)
+def compute_fig3(profile: str, seed: int, **over) -> dict:
+    return _compute_multi("multi-access", profile, seed, **over)
 
 
-def compute_fig4(profile: str, seed: int) -> dict:
-    return _compute_multi("orthogonal", profile, seed)
+def compute_fig4(profile: str, seed: int, **over) -> dict:
+    return _compute_multi("orthogonal", profile, seed, **over)
 
 
 def plot_multi(data: dict):
@@ -502,6 +517,7 @@ register(Entry(
     label="sec-dey2009-fig3",
     parameters=_MULTI_PARAMS,
     compute=compute_fig3,
+    settable=SETTABLE_PATHS,
     plot=plot_multi,
     checks=checks_multi,
     status="reproduced",
@@ -521,6 +537,7 @@ register(Entry(
     label="sec-dey2009-fig4",
     parameters=_MULTI_PARAMS,
     compute=compute_fig4,
+    settable=SETTABLE_PATHS,
     plot=plot_multi,
     checks=checks_multi,
     status="reproduced",

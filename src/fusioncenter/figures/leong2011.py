@@ -23,7 +23,8 @@ import functools
 
 import numpy as np
 
-from fusioncenter import montecarlo, plotting, power
+from fusioncenter import context, montecarlo, plotting, power
+from fusioncenter.context import Parameter
 from fusioncenter.figures.registry import Claim, Entry, register
 from fusioncenter.profile import by_profile
 
@@ -342,14 +343,23 @@ def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
     return worst
 
 
-def compute_static(profile: str, seed: int, *, access: str, panel: str) -> dict:
+#: The overridable parameters (Monte Carlo accuracy only: every claim applies).
+SETTABLE_STATIC = (Parameter("realizations", "int", "random sensor draws per point",
+                             dict(STATIC["realizations"]), minimum=2),)
+SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per point",
+                             dict(FADING["realizations"]), minimum=2),
+                   Parameter("steps", "int", "fading steps per realization",
+                             dict(FADING["steps"]), minimum=2))
+
+
+def compute_static(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     p = STATIC
-    n = by_profile(profile, **p["realizations"])
+    n = over.get("realizations") or by_profile(profile, **p["realizations"])
     other = access == "orthogonal"  # Fig. 4 also computes the multi-access benefit
     rows = []
     for M in p["M"]:
         fn = functools.partial(_static_chunk, access=access, panel=panel, M=M, other=other)
-        rows.append(montecarlo.simulate(fn, n, _m_seed(seed, M)))
+        rows.append(montecarlo.simulate(fn, n, _m_seed(seed, M), executor=context.executor()))
     s = np.stack([r.samples for r in rows])  # (nM, n, cols)
     ratio = s[:, :, 1] / s[:, :, 0]  # equal / optimal, per realization
     out = {
@@ -444,6 +454,7 @@ for _fig, _access in (("3", "multi-access"), ("4", "orthogonal")):
             chapter=CH_ALLOCATION, label=f"sec-leong2011-fig{_fig}{_panel}",
             parameters=STATIC,
             compute=functools.partial(compute_static, access=_access, panel=_panel),
+            settable=SETTABLE_STATIC,
             plot=plot_static, checks=checks_static, status="reproduced",
             note="Paper's parameters and 1000 realizations per point (paper profile). Our "
             "choices: M = 2, 4, ..., 20, and infeasible realizations (target D unreachable by "
@@ -565,16 +576,16 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
     return np.array(Ms), np.array(z), np.array(ratio), n
 
 
-def compute_fading(profile: str, seed: int, *, access: str, panel: str) -> dict:
+def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     p = FADING
-    n = by_profile(profile, **p["realizations"])
-    steps = by_profile(profile, **p["steps"])
+    n = over.get("realizations") or by_profile(profile, **p["realizations"])
+    steps = over.get("steps") or by_profile(profile, **p["steps"])
     other = access == "orthogonal"  # Fig. 6 also computes the multi-access loss
     rows = []
     for M in p["M"]:
         fn = functools.partial(_fading_chunk, access=access, panel=panel, M=M, steps=steps,
                                other=other)
-        rows.append(montecarlo.simulate(fn, n, _m_seed(seed, M)))
+        rows.append(montecarlo.simulate(fn, n, _m_seed(seed, M), executor=context.executor()))
     s = np.stack([r.samples for r in rows])
     lr = np.log(s[:, :, 1] / s[:, :, 0])  # log(no-CSI / CSI), paired per realization
     Ms, z, ratio, n_mc = _lmmse_check(profile, _m_seed(seed, 0, 3), access, panel)
@@ -684,6 +695,7 @@ for _fig, _access in (("5", "multi-access"), ("6", "orthogonal")):
             "the number of sensors M.",
             chapter=CH_FADING, label=f"sec-leong2011-fig{_fig}{_panel}", parameters=FADING,
             compute=functools.partial(compute_fading, access=_access, panel=_panel),
+            settable=SETTABLE_FADING,
             plot=plot_fading, checks=checks_fading, status="reproduced",
             note="Paper's parameters, 1000 steps x 100 realizations (paper profile). Our "
             "choices: M = 2, 4, ..., 20; P_0 = D in (a), sigma_w2/(1-a^2) in (b); "

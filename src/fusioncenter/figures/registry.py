@@ -1,16 +1,23 @@
 """The registry: one entry per figure or table, with a stable id.
 
-An entry knows its paper, caption and parameters; ``compute(profile, seed)`` returns plain data
-(a dict of named NumPy arrays and scalars, no matplotlib); ``plot(data)`` returns a matplotlib
-Figure; ``checks(data)`` returns the paper's claims about that figure, each evaluated on the data.
-Its ``status`` is honest: ``not-started`` (no compute yet), ``reproduced`` (matches the paper
-within the stated Monte Carlo error) or ``differs`` (the note says how and why).
+An entry knows its paper, caption and parameters; ``compute(profile, seed, **overrides)``
+returns plain data (a dict of named NumPy arrays and scalars, no matplotlib), where the
+overrides are the entry's ``settable`` parameters (:class:`fusioncenter.context.Parameter`)
+and the executor comes from the execution context (:mod:`fusioncenter.context`); ``plot(data)``
+returns a matplotlib Figure; ``checks(data)`` returns the paper's claims about that figure,
+each evaluated on the data. Its ``status`` is honest: ``not-started`` (no compute yet),
+``reproduced`` (matches the paper within the stated Monte Carlo error) or ``differs`` (the
+note says how and why).
 """
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import json
 import os
 import pickle
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from fusioncenter import context
+from fusioncenter.context import Parameter
 from fusioncenter.profile import check_profile
 
 __all__ = [
@@ -27,6 +36,9 @@ __all__ = [
     "Entry",
     "EntryNotReady",
     "UnknownEntry",
+    "ComputeCacheError",
+    "Parameter",
+    "nonfinite_keys",
     "REGISTRY",
     "register",
     "get",
@@ -55,6 +67,10 @@ class EntryNotReady(RuntimeError):
     """The entry has no compute (or plot, or checks) yet: its status is ``not-started``."""
 
 
+class ComputeCacheError(OSError):
+    """A file of the compute cache (:data:`CACHE_ENV`) cannot be read back."""
+
+
 class UnknownEntry(KeyError):
     """No registry entry has that id."""
 
@@ -64,14 +80,58 @@ class UnknownEntry(KeyError):
 
 @dataclass(frozen=True)
 class Claim:
-    """One claim of a paper, checked on computed data."""
+    """One claim of a paper, checked on computed data.
+
+    ``passed`` must be a real ``bool`` (a NumPy bool is converted): anything else, such as the
+    string ``"False"``, is a ``TypeError``, never a pass. ``paper_specific`` marks a claim about
+    the paper's own setting (its printed numbers, its ``N`` or ``l``): ``verify`` skips it when
+    a model parameter is overridden.
+    """
 
     name: str
     passed: bool
     detail: str = ""
+    paper_specific: bool = False
+
+    def __post_init__(self) -> None:
+        if isinstance(self.passed, np.bool_):
+            object.__setattr__(self, "passed", bool(self.passed))
+        if not isinstance(self.passed, bool):
+            raise TypeError(f"claim {self.name!r}: passed must be a bool, got "
+                            f"{type(self.passed).__name__} {self.passed!r}")
+        if not isinstance(self.paper_specific, bool):
+            raise TypeError(f"claim {self.name!r}: paper_specific must be a bool")
 
     def __bool__(self) -> bool:
-        return bool(self.passed)
+        return self.passed
+
+
+def nonfinite_keys(data: dict, allowed=()) -> list[str]:
+    """The keys of ``data`` (outside ``allowed``) whose numbers include NaN or an infinity.
+
+    Floats, complex numbers and numeric arrays are inspected, also inside lists, tuples and
+    nested dicts (``outer.inner``); text and integers are never non-finite.
+    """
+    bad = []
+
+    def has_nonfinite(v) -> bool:
+        if isinstance(v, dict):
+            return any(has_nonfinite(x) for x in v.values())
+        if isinstance(v, float | complex | np.floating | np.complexfloating):
+            return not np.isfinite(v)
+        if isinstance(v, list | tuple):
+            return any(has_nonfinite(x) for x in v)
+        if isinstance(v, np.ndarray):
+            if v.dtype.kind in "fc":
+                return not bool(np.isfinite(v).all())
+            if v.dtype == object:
+                return any(has_nonfinite(x) for x in v.ravel())
+        return False
+
+    for key, value in data.items():
+        if key not in allowed and has_nonfinite(value):
+            bad.append(str(key))
+    return bad
 
 
 @dataclass
@@ -83,12 +143,17 @@ class Entry:
     chapter: str  # Sphinx docname of the chapter, e.g. "book/background/kalman-riccati"
     label: str = ""  # MyST target in that chapter ("" = the chapter itself)
     parameters: dict[str, Any] = field(default_factory=dict)
-    compute: Callable[[str, int], dict] | None = None
+    compute: Callable[..., dict] | None = None
     plot: Callable[[dict], Any] | None = None
     checks: Callable[[dict], list[Claim]] | None = None
     status: str = "not-started"
     note: str = ""
     seed: int = 20260101
+    #: The parameters ``compute`` accepts as keyword overrides (``--set key=value``).
+    settable: tuple[Parameter, ...] = ()
+    #: Data keys in which NaN or inf are legitimate values (e.g. an undefined z-score); in any
+    #: other key they make every claim fail (see :meth:`run_checks`).
+    nonfinite_ok: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.paper not in PAPERS:
@@ -111,46 +176,135 @@ class Entry:
             )
         return fn
 
-    def run_compute(self, profile: str = "fast", seed: int | None = None) -> dict:
-        """``compute(profile, seed)``, checked to return a dict.
+    def check_overrides(self, overrides: dict) -> dict:
+        """The overrides parsed against :attr:`settable`; ``ValueError`` listing the valid
+        keys for an unknown key, naming the parameter for a bad value."""
+        return context.check_overrides(self.id, self.settable, overrides)
+
+    def resolved_parameters(self, profile: str, overrides: dict | None = None) -> dict:
+        """Every settable parameter's value in a run of ``profile`` with ``overrides``."""
+        check_profile(profile)
+        over = self.check_overrides(overrides or {})
+        return {p.name: over.get(p.name, p.default_for(profile)) for p in self.settable}
+
+    def model_overridden(self, overrides: dict | None) -> list[str]:
+        """The overridden parameters that change the paper's setting (not only the accuracy)."""
+        by = {p.name: p for p in self.settable}
+        return sorted(k for k in (overrides or {}) if k in by and by[k].model)
+
+    def run_compute(self, profile: str = "fast", seed: int | None = None, *,
+                    executor: str | None = None, **overrides) -> dict:
+        """``compute(profile, seed, **overrides)`` in an execution context, checked to return a
+        dict.
+
+        Parameters
+        ----------
+        profile, seed
+            The profile (``fast`` or ``paper``) and a non-negative integer seed (default: the
+            entry's).
+        executor
+            Where the Monte Carlo tasks run: ``serial``, ``processes[:N]``, ``dask:local`` or
+            ``dask:ADDRESS`` (:func:`fusioncenter.context.parse_executor`). Default
+            :func:`fusioncenter.context.default_spec`. The data do not depend on it.
+        **overrides
+            Values of the entry's :attr:`settable` parameters (unknown keys and bad values are
+            a ``ValueError``).
 
         If the environment variable :data:`CACHE_ENV` names a folder, the data are stored there
-        (one pickle per id, profile and seed) and read back by later calls, in any process:
-        the book's build sets it to a folder inside its output that it wipes whenever the
-        library, the lock or the configuration change (``tools/build_book.py``), so that a
-        chapter that gathers other chapters' entries does not run them a second time. Unset
-        (the tests, nbval, the command line), every call computes.
+        (one pickle per id, profile, seed and overrides) and read back by later calls, in any
+        process: the book's build sets it to a folder inside its output that it wipes whenever
+        the library, the lock or the configuration change (``tools/build_book.py``), so that a
+        chapter that gathers other chapters' entries does not run them a second time. Chapters
+        executing in parallel share the folder safely: writes are atomic (a temporary file
+        renamed), and a process computing an entry holds a lock on it, so that another one
+        needing the same entry waits and reads it instead of computing it again. A file that
+        cannot be read back is a :class:`ComputeCacheError`. Unset (the tests, nbval, the
+        command line), every call computes.
         """
         check_profile(profile)
-        if seed is not None:  # a NumPy integer is a seed, True is not
-            if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-                raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-            seed = int(seed)
-        seed = self.seed if seed is None else seed
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)
+                                 or seed < 0):
+            raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        seed = self.seed if seed is None else int(seed)
+        spec = context.default_spec(profile) if executor is None else \
+            context.parse_executor(executor)
+        compute = self._need("compute")
+        over = self.check_overrides(overrides)
         folder = os.environ.get(CACHE_ENV, "").strip()
-        path = Path(folder) / f"{self.id}.{profile}.{seed}.pickle" if folder else None
-        if path is not None and path.exists():
-            with path.open("rb") as fh:
-                return pickle.load(fh)
-        data = self._need("compute")(profile, seed)
-        if not isinstance(data, dict):
-            raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
-        if path is not None:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        path = None
+        if folder:
+            tag = ""
+            if over:
+                blob = json.dumps(sorted(over.items()), default=str).encode()
+                tag = "." + hashlib.sha256(blob).hexdigest()[:12]
+            path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}.pickle"
+        ctx = context.ExecutionContext(profile, seed, spec, over)
+        if path is None:
+            return self._compute_in(ctx, compute, over)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with _locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
+            if path.exists():
+                try:
+                    with path.open("rb") as fh:
+                        return pickle.load(fh)
+                except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
+                    raise ComputeCacheError(
+                        f"compute cache file {path} is unreadable ({type(exc).__name__}: "
+                        f"{exc}); delete it (or the folder {CACHE_ENV} names) and run again"
+                    ) from None
+            data = self._compute_in(ctx, compute, over)
+            tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
             with tmp.open("wb") as fh:
                 pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
             tmp.replace(path)  # atomic: a reader never sees half a file
+        return data
+
+    def _compute_in(self, ctx, compute, over: dict) -> dict:
+        with context.activate(ctx):
+            data = compute(ctx.profile, ctx.seed, **over)
+        if not isinstance(data, dict):
+            raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
         return data
 
     def run_plot(self, data: dict):
         return self._need("plot")(data)
 
     def run_checks(self, data: dict) -> list[Claim]:
-        claims = list(self._need("checks")(data))
+        """The entry's claims evaluated on ``data``.
+
+        A claim is only as good as the numbers it reads: if ``data`` hold NaN or inf outside
+        :attr:`nonfinite_ok` (a computation gone wrong, or data tampered with), every claim is
+        reported failed, with the offending keys in its detail, whatever its own test says.
+        A check that raises on such data fails the same way instead of raising.
+        """
+        check = self._need("checks")
+        bad = nonfinite_keys(data, self.nonfinite_ok)
+        try:
+            claims = list(check(data))
+        except Exception as exc:  # noqa: BLE001 (re-raised below unless the data explain it)
+            if not bad:
+                raise
+            return [Claim(f"{self.id}: the claims", False,
+                          f"data have non-finite values in {', '.join(bad)}; the checks "
+                          f"raised {type(exc).__name__}: {exc}")]
         if not claims:
             raise EntryNotReady(f"{self.id}: checks returned no claims")
+        for c in claims:
+            if not isinstance(c, Claim):
+                raise TypeError(f"{self.id}: checks must return Claim objects, got {c!r}")
+        if bad:
+            note = f"FAILED: data have non-finite values in {', '.join(bad)}"
+            claims = [Claim(c.name, False, f"{note}; {c.detail}" if c.detail else note,
+                            c.paper_specific) for c in claims]
         return claims
+
+    def split_claims(self, claims: list[Claim], overrides: dict | None = None) -> tuple:
+        """``(checked, skipped)``: with a model parameter overridden, the paper-specific claims
+        are skipped (they are about the paper's setting); otherwise every claim is checked."""
+        if not self.model_overridden(overrides):
+            return list(claims), []
+        return ([c for c in claims if not c.paper_specific],
+                [c for c in claims if c.paper_specific])
 
     def summary(self) -> dict:
         return {
@@ -161,12 +315,30 @@ class Entry:
             "chapter": self.chapter,
             "label": self.label,
             "parameters": self.parameters,
+            "settable": {p.name: p.describe() for p in self.settable},
             "status": self.status,
             "note": self.note,
             "has_compute": self.compute is not None,
             "has_plot": self.plot is not None,
             "has_checks": self.checks is not None,
         }
+
+
+@contextlib.contextmanager
+def _locked(path: Path):
+    """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
+    the same cache file take turns, so the second one reads what the first stored. (A process
+    that opened the file just before its removal may compute it once more: harmless, the
+    bytes are the same.)"""
+    import fcntl
+
+    with path.open("a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 REGISTRY: dict[str, Entry] = {}

@@ -21,18 +21,16 @@ see :data:`DATA_KEYS`.
 
 from __future__ import annotations
 
-import concurrent.futures
-import contextlib
 import dataclasses
 import functools
 import math
-import os
 
 import matplotlib.ticker
 import numpy as np
 
 from fusioncenter import censoring as cs
-from fusioncenter import montecarlo, plotting
+from fusioncenter import context, montecarlo, plotting
+from fusioncenter.context import Parameter
 from fusioncenter.figures.registry import Claim, Entry, register
 from fusioncenter.profile import by_profile
 
@@ -55,8 +53,6 @@ PARTICLES_CHOICES = {"fast": 150, "paper": 1000}
 #: the fast profile.
 TRIALS_FIG2 = {"fast": 1024, "paper": 5000}
 PARTICLES_FIG2 = {"fast": 300, "paper": 1000}
-#: Worker processes in the paper profile (``None``: serial). The fast profile is serial.
-WORKERS = {"fast": None, "paper": 2}
 
 SCHEMES = ("all-send", "random", "cfomd", "cfwmd")
 LABELS = {"all-send": "all-send", "random": "random selection", "cfomd": "CFoMD",
@@ -119,57 +115,29 @@ DATA_KEYS = {
 
 
 # ------------------------------------------------------------------------- running
-def _executor(profile: str):
-    workers = by_profile(profile, **WORKERS)
-    if workers is None:
-        return None
-    return concurrent.futures.ProcessPoolExecutor(workers)
+# Where the trials run is the execution context's (fusioncenter.context.executor(): a process
+# pool, a Dask cluster or serial); the data do not depend on it.
 
 
-@contextlib.contextmanager
-def _one_blas_thread_env():
-    """The BLAS and OpenMP thread counts set to 1 for the processes started inside (the worker
-    pools of the vector and nonlinear entries), the variables restored afterwards."""
-    keys = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-    old = {k: os.environ.get(k) for k in keys}
-    os.environ.update({k: "1" for k in keys})
-    try:
-        yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+def _settable(trials: dict, particles: dict, *, N: int | None = None,
+              l: float | None = None) -> tuple[Parameter, ...]:
+    """The overridable parameters of an entry: trials and particles (accuracy only), and, if
+    given, the number of sensors ``N`` and the target ``l`` (the paper's setting)."""
+    out = [Parameter("trials", "int", "Monte Carlo trials", dict(trials), minimum=2),
+           Parameter("particles", "int", "particles of the fusion centre's filter",
+                     dict(particles), minimum=10)]
+    if N is not None:
+        out.append(Parameter("N", "int", "number of sensors (the paper's scalar sensors, "
+                             "h = (1, 0), r = 1)", N, minimum=1, maximum=64, model=True))
+    if l is not None:
+        out.append(Parameter("l", "float", "target number of transmissions per step", l,
+                             minimum=0.0, model=True))
+    return tuple(out)
 
 
-class _Serial:
-    """A stand-in for a process pool (``pool = None``: runs in this process)."""
-
-    pool = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
-
-
-def _pool_ctx(profile: str):
-    ex = _executor(profile)
-    return _Serial() if ex is None else _Pool(ex)
-
-
-class _Pool:
-    def __init__(self, ex):
-        self.pool = ex
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.pool.shutdown()
-        return False
+def _size(profile: str, trials: dict, particles: dict, over: dict) -> tuple[int, int]:
+    return (over.get("trials") or by_profile(profile, **trials),
+            over.get("particles") or by_profile(profile, **particles))
 
 
 def _run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
@@ -239,12 +207,11 @@ FIG1 = {"N": 2, "l": 1.0, "feedback": "state"}
 
 
 @functools.lru_cache(maxsize=4)
-def _fig1_runs(profile: str, seed: int) -> tuple:
-    sc = cs.LinearScenario(N=FIG1["N"])
-    n, P = by_profile(profile, **TRIALS), by_profile(profile, **PARTICLES)
-    with _pool_ctx(profile) as ex:
-        return tuple(_run(sc, s, feedback="state", l=FIG1["l"], n=n, P=P, seed=seed,
-                          executor=ex.pool) for s in SCHEMES)
+def _fig1_runs(seed: int, n: int, P: int, N: int, l: float) -> tuple:
+    sc = cs.LinearScenario(N=N)
+    ex = context.executor()
+    return tuple(_run(sc, s, feedback="state", l=l, n=n, P=P, seed=seed, executor=ex)
+                 for s in SCHEMES)
 
 
 def _pairs(by: dict, pairs) -> tuple:
@@ -273,8 +240,10 @@ def _schemes_data(runs, N: int, l: float) -> dict:
     }
 
 
-def compute_fig1(profile: str, seed: int) -> dict:
-    return _schemes_data(_fig1_runs(profile, seed), FIG1["N"], FIG1["l"])
+def compute_fig1(profile: str, seed: int, **over) -> dict:
+    n, P = _size(profile, TRIALS, PARTICLES, over)
+    N, l = over.get("N", FIG1["N"]), over.get("l", FIG1["l"])
+    return _schemes_data(_fig1_runs(seed, n, P, N, l), N, l)
 
 
 def _rmse_panels(data: dict, names, labels, styles=None):
@@ -349,6 +318,7 @@ register(Entry(
     chapter=CHAPTER, label="sec-zheng2014-fig1",
     parameters=_params(cs.LinearScenario(N=2), l=1.0, feedback="state"),
     compute=compute_fig1, plot=plot_fig1, checks=checks_fig1, status="reproduced",
+    settable=_settable(TRIALS, PARTICLES, N=FIG1["N"], l=FIG1["l"]),
     note="The paper's ordering all-send < CFwMD < CFoMD < random holds for position and "
     "velocity with large paired z-scores. The figure's axes are not given numerically in the "
     "text, so only the ordering and the transmission rate are compared. Open choices (x_0 "
@@ -361,16 +331,20 @@ FIG2 = {"N": 4, "l": list(L_FIG2), "feedback": ["state (CFwMD)", "state+cov (CFw
 
 
 @functools.lru_cache(maxsize=4)
-def _fig2_runs(profile: str, seed: int) -> tuple:
+def _fig2_runs(seed: int, n: int, P: int, N: int) -> tuple:
     """(CFwMD runs, CFwMD2 runs) at every l: shared by Fig. 2 and Table I."""
-    sc = cs.LinearScenario(N=FIG2["N"])
-    n, P = by_profile(profile, **TRIALS_FIG2), by_profile(profile, **PARTICLES_FIG2)
-    with _pool_ctx(profile) as ex:
-        a = tuple(_run(sc, "cfwmd", feedback="state", l=l, n=n, P=P, seed=seed,
-                       executor=ex.pool) for l in L_FIG2)
-        b = tuple(_run(sc, "cfwmd", feedback="state+cov", l=l, n=n, P=P, seed=seed,
-                       executor=ex.pool) for l in L_FIG2)
+    sc = cs.LinearScenario(N=N)
+    ex = context.executor()
+    a = tuple(_run(sc, "cfwmd", feedback="state", l=l, n=n, P=P, seed=seed, executor=ex)
+              for l in L_FIG2)
+    b = tuple(_run(sc, "cfwmd", feedback="state+cov", l=l, n=n, P=P, seed=seed, executor=ex)
+              for l in L_FIG2)
     return a, b
+
+
+def _fig2_args(profile: str, seed: int, over: dict) -> tuple:
+    n, P = _size(profile, TRIALS_FIG2, PARTICLES_FIG2, over)
+    return seed, n, P, over.get("N", FIG2["N"])
 
 
 def _by_l_data(a, b, ls, N: int, **extra) -> dict:
@@ -393,8 +367,9 @@ def _by_l_data(a, b, ls, N: int, **extra) -> dict:
     }
 
 
-def compute_fig2(profile: str, seed: int) -> dict:
-    a, b = _fig2_runs(profile, seed)
+def compute_fig2(profile: str, seed: int, **over) -> dict:
+    args = _fig2_args(profile, seed, over)
+    a, b = _fig2_runs(*args)
     gain, gse = [], []
     for ra, rb in zip(a, b, strict=True):
         va, ia = cs._tavg_influence(ra, "position")
@@ -404,7 +379,7 @@ def compute_fig2(profile: str, seed: int) -> dict:
         infl = (ia - ib) / va - (va - vb) * ia / va**2
         gain.append(g)
         gse.append(float(infl.std(ddof=1) / math.sqrt(infl.size)))
-    return _by_l_data(a, b, L_FIG2, FIG2["N"], rel_gain=np.array(gain),
+    return _by_l_data(a, b, L_FIG2, args[-1], rel_gain=np.array(gain),
                       rel_gain_stderr=np.array(gse))
 
 
@@ -494,8 +469,10 @@ def _transmissions_data(a, b, ls, paper: dict, N: int) -> dict:
     }
 
 
-def compute_table1(profile: str, seed: int) -> dict:
-    a, b = _fig2_runs(profile, seed)
+def compute_table1(profile: str, seed: int, **over) -> dict:
+    args = _fig2_args(profile, seed, over)
+    a, b = _fig2_runs(*args)
+    N = args[-1]
     l = np.array(L_FIG2)
     # the paper's explanation at l = 1: steps where nobody sends, and runs of them
     none, runs, runs_se, runs_z = [], [], [], []
@@ -509,10 +486,10 @@ def compute_table1(profile: str, seed: int) -> dict:
         dd = qb - qa
         runs_z.append(dd.mean() / (dd.std(ddof=1) / math.sqrt(dd.size)))
     return {
-        "p_none": np.array(none), "p_none_independent": (1 - l / FIG2["N"]) ** FIG2["N"],
+        "p_none": np.array(none), "p_none_independent": (1 - l / N) ** N,
         "silent_pairs": np.array(runs), "silent_pairs_stderr": np.array(runs_se),
         "silent_pairs_z": np.array(runs_z),
-        **_transmissions_data(a, b, L_FIG2, PAPER_TABLE1, FIG2["N"]),
+        **_transmissions_data(a, b, L_FIG2, PAPER_TABLE1, N),
     }
 
 
@@ -561,11 +538,13 @@ def checks_table1(data: dict) -> list[Claim]:
               ", ".join(f"{v:.4f}" for v in a[mid])),
         Claim("l >= 1.2: CFwMD2 agrees with the paper's Table I (|z| < 4)",
               bool(np.all(np.abs(zb[mid]) < Z_TOL)),
-              "z = " + ", ".join(f"{v:.2f}" for v in zb) + " (l = 1 first)"),
+              "z = " + ", ".join(f"{v:.2f}" for v in zb) + " (l = 1 first)",
+              paper_specific=True),
         Claim("CFwMD is within 0.05 transmissions per step of the paper's Table I at every l",
               bool(np.all(np.abs(off) < 0.05)),
               "ours - paper = " + ", ".join(f"{v:+.4f}" for v in off)
-              + "; z = " + ", ".join(f"{v:.2f}" for v in data["z_cfwmd"])),
+              + "; z = " + ", ".join(f"{v:.2f}" for v in data["z_cfwmd"]),
+              paper_specific=True),
         Claim("l = 1: CFwMD2 has more pairs of consecutive steps without any transmission "
               "than CFwMD (the paper's explanation of CFwMD2's loss at l = 1)",
               bool(data["silent_pairs_z"][0] > Z_ORDER),
@@ -595,6 +574,7 @@ register(Entry(
     parameters=_params(_sc4, l=list(L_FIG2), feedback=["state", "state+cov"],
                        trials=dict(TRIALS_FIG2), particles=dict(PARTICLES_FIG2)),
     compute=compute_fig2, plot=plot_fig2, checks=checks_fig2, status="reproduced",
+    settable=_settable(TRIALS_FIG2, PARTICLES_FIG2, N=FIG2["N"]),
     note="As in the paper: CFwMD is better at l = 1, CFwMD2 better for 1 < l < 3, and the "
     "covariance feedback helps little at l = 3. r = 1 for every sensor (the paper states it "
     "for sensors 1, 2 only; zheng2014-table1-choices varies it).",
@@ -610,6 +590,7 @@ register(Entry(
                        trials=dict(TRIALS_FIG2), particles=dict(PARTICLES_FIG2),
                        paper_values=PAPER_TABLE1),
     compute=compute_table1, plot=plot_table1, checks=checks_table1, status="differs",
+    settable=_settable(TRIALS_FIG2, PARTICLES_FIG2, N=FIG2["N"]),
     note="Same runs as Fig. 2. The conclusions hold (CFwMD2 meets the target l more closely "
     "for l > 1; CFwMD sends fewer than l), but at the paper's scale our CFwMD sends 0.02-0.04 "
     "fewer transmissions per step than the printed values at every l (z from -4 to -8, with "
@@ -626,24 +607,26 @@ FIG3_CURVES = ("all-send", "random", "cfomd", "printed", "corrected", "exact")
 
 
 @functools.lru_cache(maxsize=4)
-def _fig3_runs(profile: str, seed: int) -> tuple:
+def _fig3_runs(seed: int, n: int, P: int, nh: int) -> tuple:
     sc = cs.LinearScenario(N=FIG3["N"])
-    n, P = by_profile(profile, **TRIALS), by_profile(profile, **PARTICLES)
-    nh = by_profile(profile, **TRIALS_NOFB_HEAVY)
     l = FIG3["l"]
-    with _pool_ctx(profile) as ex:
-        runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, executor=ex.pool)
-                for s in ("all-send", "random", "cfomd")]
-        runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
-                         likelihood="printed", executor=ex.pool))
-        for lk in ("corrected", "exact"):
-            runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=nh, P=P, seed=seed,
-                             likelihood=lk, executor=ex.pool))
+    ex = context.executor()
+    runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, executor=ex)
+            for s in ("all-send", "random", "cfomd")]
+    runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
+                     likelihood="printed", executor=ex))
+    for lk in ("corrected", "exact"):
+        runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=nh, P=P, seed=seed,
+                         likelihood=lk, executor=ex))
     return tuple(runs)
 
 
-def compute_fig3(profile: str, seed: int) -> dict:
-    runs = _fig3_runs(profile, seed)
+def compute_fig3(profile: str, seed: int, **over) -> dict:
+    n, P = _size(profile, TRIALS, PARTICLES, over)
+    nh = over.get("trials_heavy") or by_profile(profile, **TRIALS_NOFB_HEAVY)
+    if nh > n:
+        raise ValueError(f"parameter trials_heavy: must be <= trials ({n}), got {nh}")
+    runs = _fig3_runs(seed, n, P, nh)
     by = dict(zip(FIG3_CURVES, runs, strict=True))
     cur = [_curves(r) for r in runs]
     printed_diff = _printed_max_abs_diff(by)
@@ -711,6 +694,10 @@ register(Entry(
                        likelihood=["printed", "corrected", "exact"],
                        trials_corrected_exact=dict(TRIALS_NOFB_HEAVY)),
     compute=compute_fig3, plot=plot_fig3, checks=checks_fig3, status="differs",
+    settable=(*_settable(TRIALS, PARTICLES),
+              Parameter("trials_heavy", "int", "trials of the corrected and the exact filter "
+                        "(the first ones of the others; a multiple of the block size 256 if "
+                        "smaller than trials)", dict(TRIALS_NOFB_HEAVY), minimum=2)),
     note="Proposition 3 as printed, with the paper's law (21) for the local predictions, "
     "weights the particles exactly as CFoMD (every silent factor integrates to a constant in "
     "x), so it cannot produce the gain of the paper's Fig. 3 (errata 3-5). The corrected "
@@ -724,21 +711,20 @@ register(Entry(
 
 # ============================================================== own: Table I under the choices
 @functools.lru_cache(maxsize=4)
-def _choices_runs(profile: str, seed: int) -> tuple:
-    n, P = by_profile(profile, **TRIALS_CHOICES), by_profile(profile, **PARTICLES_CHOICES)
+def _choices_runs(seed: int, n: int, P: int) -> tuple:
     out = []
-    with _pool_ctx(profile) as ex:
-        for kw in CHOICES.values():
-            sc = cs.LinearScenario(N=4, **kw)
-            out.append(tuple(
-                tuple(_run(sc, "cfwmd", feedback=fb, l=l, n=n, P=P, seed=seed,
-                           executor=ex.pool) for l in L_FIG2)
-                for fb in ("state", "state+cov")))
+    ex = context.executor()
+    for kw in CHOICES.values():
+        sc = cs.LinearScenario(N=4, **kw)
+        out.append(tuple(
+            tuple(_run(sc, "cfwmd", feedback=fb, l=l, n=n, P=P, seed=seed, executor=ex)
+                  for l in L_FIG2)
+            for fb in ("state", "state+cov")))
     return tuple(out)
 
 
-def compute_choices(profile: str, seed: int) -> dict:
-    runs = _choices_runs(profile, seed)
+def compute_choices(profile: str, seed: int, **over) -> dict:
+    runs = _choices_runs(seed, *_size(profile, TRIALS_CHOICES, PARTICLES_CHOICES, over))
     l = np.array(L_FIG2)
     keys = ("cfwmd", "cfwmd2")
     out = {k: [] for k in ("cfwmd", "cfwmd_stderr", "cfwmd2", "cfwmd2_stderr", "closer_z",
@@ -814,6 +800,7 @@ register(Entry(
                 "l": list(L_FIG2), "N": 4, "trials": dict(TRIALS_CHOICES),
                 "particles": dict(PARTICLES_CHOICES)},
     compute=compute_choices, plot=plot_choices, checks=checks_choices, status="reproduced",
+    settable=_settable(TRIALS_CHOICES, PARTICLES_CHOICES),
     note="The book's own sensitivity check (512 trials in the paper profile, 256 x 150 "
     "particles in the fast one). The conclusions (CFwMD2 meets the target l more closely and "
     "has the lower RMSE for 1 < l < 3; CFwMD sends fewer than l) do not depend on the choices. "

@@ -12,24 +12,22 @@ with the same seed, trial count, particle count and block size, so all runs of o
 seed share the truth and the measurements: schemes are compared by paired differences, and
 runs used by several entries (Figs. 8 and 9 at ``l = 2``; Figs. 9 and 10 for CFwMD at
 ``l = 2, 4, 6``; Fig. 10 and Table III entirely) are computed once and kept in :data:`_RUNS`.
-At paper scale the blocks of 25 trials of every missing run are spread over :data:`WORKERS`
-processes (the results do not depend on it).
+The blocks of 25 trials of every missing run are spread over the execution context's executor
+(:func:`fusioncenter.context.executor`: by default a process pool in the paper profile); the
+results do not depend on it.
 """
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import math
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from fusioncenter import censoring, plotting
+from fusioncenter import censoring, context, plotting
 from fusioncenter import censoring_nonlinear as cn
 from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.figures.zheng2014 import _one_blas_thread_env
+from fusioncenter.figures.zheng2014 import _settable
 from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -43,8 +41,6 @@ SIZES = {"fast": {"trials": 40, "particles": 5000}, "paper": {"trials": 200, "pa
 #: Trials per independent random stream (part of the random-number design) and per task: at
 #: 10^4 particles a block needs about 100 MB.
 BLOCK = 25
-#: Worker processes for the paper profile (the machine of the book has two cores).
-WORKERS = 2
 L_FIG8 = 2
 L_FIG9 = (1, 2, 4, 6, 8)
 L_FIG10 = (2, 4, 6)
@@ -79,7 +75,8 @@ PARAMS = {
 
 
 # ============================================================================ shared runs
-#: ``(profile, seed, scheme, l, feedback) -> CensoringResult``, shared by the entries.
+#: ``(profile, seed, trials, particles, scheme, l, feedback) -> CensoringResult``, shared by the
+#: entries.
 _RUNS: dict[tuple, censoring.CensoringResult] = {}
 
 
@@ -89,62 +86,30 @@ def _run_one(scheme: str, l: float, feedback: str, n: int, P: int, seed: int, ex
                   feedback=feedback, block_size=BLOCK, chunk_size=BLOCK, executor=executor)
 
 
-def _one_blas_thread() -> None:
-    """Worker initializer: one BLAS thread per worker process.
-
-    A forked worker inherits its parent's already initialized OpenBLAS, on which
-    ``OPENBLAS_NUM_THREADS`` no longer acts, so the limit is set through the libraries' own
-    ``*openblas_set_num_threads*`` (what threadpoolctl does); silently nothing if not found.
-    """
-    import ctypes
-
-    try:
-        with open("/proc/self/maps") as fh:
-            paths = {ln.split()[-1] for ln in fh
-                     if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
-    except OSError:  # not Linux
-        return
-    names = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
-             "openblas_set_num_threads64_", "openblas_set_num_threads")
-    for path in sorted(paths):
-        try:
-            lib = ctypes.CDLL(path)
-        except OSError:
-            continue
-        for name in names:
-            fn = getattr(lib, name, None)
-            if fn is not None:
-                fn(1)
-                break
-
-
-@contextlib.contextmanager
-def _pool(workers: int):
-    """A pool of forked worker processes with one BLAS thread each (and the usual variables
-    set for anything they start). Fork, not spawn: a spawned worker would re-run the caller's
-    ``__main__`` (a script, or ``python -m fusioncenter``)."""
-    with _one_blas_thread_env():
-        ctx = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_one_blas_thread) as ex:
-            yield ex
-
-
-def runs(profile: str, seed: int, specs) -> dict[tuple, censoring.CensoringResult]:
-    """The runs ``(scheme, l, feedback)`` of ``specs`` for ``profile`` and ``seed``, computing
-    (in parallel at paper scale) only those not yet in :data:`_RUNS`."""
+def _sizes(profile: str, over: dict) -> tuple[int, int]:
+    """Trials and particles of a run of ``profile`` with the overrides ``over``."""
     size = by_profile(profile, fast=SIZES["fast"], paper=SIZES["paper"])
-    n, P = size["trials"], size["particles"]
+    return over.get("trials") or size["trials"], over.get("particles") or size["particles"]
+
+
+#: The overridable parameters of the filtering entries (Figs. 8-10, Table III).
+SETTABLE = _settable({p: s["trials"] for p, s in SIZES.items()},
+                     {p: s["particles"] for p, s in SIZES.items()})
+
+
+def runs(profile: str, seed: int, specs, **over) -> dict[tuple, censoring.CensoringResult]:
+    """The runs ``(scheme, l, feedback)`` of ``specs`` for ``profile``, ``seed`` and the
+    overrides ``over`` (trials, particles), computing only those not yet in :data:`_RUNS`, on
+    the execution context's executor (one task per block of 25 trials, 8 per run at paper
+    scale: every worker stays busy to the end)."""
+    n, P = _sizes(profile, over)
     specs = list(dict.fromkeys(specs))
-    todo = [s for s in specs if (profile, seed, *s) not in _RUNS]
-    if profile == "paper" and todo and WORKERS > 1:
-        # one task per block of 25 trials (8 per run): both workers stay busy to the end
-        with _pool(WORKERS) as ex:
-            for s in todo:
-                _RUNS[(profile, seed, *s)] = _run_one(*s, n, P, seed, executor=ex)
-    else:
-        for s in todo:
-            _RUNS[(profile, seed, *s)] = _run_one(*s, n, P, seed)
-    return {s: _RUNS[(profile, seed, *s)] for s in specs}
+    key = (profile, seed, n, P)
+    todo = [s for s in specs if (*key, *s) not in _RUNS]
+    ex = context.executor() if todo else None
+    for s in todo:
+        _RUNS[(*key, *s)] = _run_one(*s, n, P, seed, executor=ex)
+    return {s: _RUNS[(*key, *s)] for s in specs}
 
 
 def _sq(res: censoring.CensoringResult, component: str) -> np.ndarray:
@@ -193,10 +158,9 @@ def _stack(results, key):
     return np.stack([_curves(r)[key] for r in results])
 
 
-def _size_info(profile: str, seed: int) -> dict:
-    size = by_profile(profile, fast=SIZES["fast"], paper=SIZES["paper"])
-    return {"profile": profile, "seed": seed, "trials": size["trials"],
-            "particles": size["particles"], "block_size": BLOCK}
+def _size_info(profile: str, seed: int, **over) -> dict:
+    n, P = _sizes(profile, over)
+    return {"profile": profile, "seed": seed, "trials": n, "particles": P, "block_size": BLOCK}
 
 
 def _z(value: float, se: float) -> float:
@@ -280,12 +244,12 @@ def _spec(scheme: str, l: float, feedback: str = "state") -> tuple:
     return (scheme, float(SCENARIO.N if scheme == "all-send" else l), feedback)
 
 
-def compute_fig8(profile: str, seed: int) -> dict:
+def compute_fig8(profile: str, seed: int, **over) -> dict:
     specs = [_spec(s, L_FIG8) for s in FIG8_SCHEMES]
-    got = runs(profile, seed, specs)
+    got = runs(profile, seed, specs, **over)
     res = [got[s] for s in specs]
     R = dict(zip(FIG8_SCHEMES, res, strict=True))
-    out = {**_size_info(profile, seed), "l": L_FIG8, "eta": R["cfwmd"].eta,
+    out = {**_size_info(profile, seed, **over), "l": L_FIG8, "eta": R["cfwmd"].eta,
            "time": R["cfwmd"].time * SCENARIO.dt, "schemes": list(FIG8_SCHEMES)}
     for key in ("rmse_position", "rmse_position_stderr", "rmse_velocity",
                 "rmse_velocity_stderr"):
@@ -370,13 +334,13 @@ def checks_fig8(data: dict) -> list[Claim]:
 FIG9_SCHEMES = ("random", "cfomd", "cfwmd")
 
 
-def compute_fig9(profile: str, seed: int) -> dict:
+def compute_fig9(profile: str, seed: int, **over) -> dict:
     specs = [_spec(s, l) for s in FIG9_SCHEMES for l in L_FIG9] + [_spec("all-send", 9)]
-    got = runs(profile, seed, specs)
+    got = runs(profile, seed, specs, **over)
     R = {(s, l): got[_spec(s, l)] for s in FIG9_SCHEMES for l in L_FIG9}
     alls = got[_spec("all-send", 9)]
     nL = len(L_FIG9)
-    out = {**_size_info(profile, seed), "l": np.array(L_FIG9, dtype=float),
+    out = {**_size_info(profile, seed, **over), "l": np.array(L_FIG9, dtype=float),
            "schemes": list(FIG9_SCHEMES)}
     for comp in ("position", "velocity"):
         v = np.empty((3, nL))
@@ -470,14 +434,16 @@ def checks_fig9(data: dict) -> list[Claim]:
 
 # ============================================================================ Fig. 10, Table III
 @functools.lru_cache(maxsize=8)
-def _fig10_table3(profile: str, seed: int) -> dict:
+def _fig10_table3(profile: str, seed: int, trials: int | None = None,
+                  particles: int | None = None) -> dict:
     """The shared computation of Fig. 10 and Table III (cached: the two entries use one run
     set)."""
+    over = {"trials": trials, "particles": particles}
     specs = [_spec("cfwmd", l, fb) for l in L_FIG10 for fb in ("state", "state+cov")]
-    got = runs(profile, seed, specs)
+    got = runs(profile, seed, specs, **over)
     T = SCENARIO.T
     first, later = slice(0, T // 2), slice(T // 2, T)
-    out = {**_size_info(profile, seed), "l": np.array(L_FIG10, dtype=float),
+    out = {**_size_info(profile, seed, **over), "l": np.array(L_FIG10, dtype=float),
            "time": np.arange(1, T + 1) * SCENARIO.dt}
     keys = ("rmse_position", "rmse_position_stderr", "rmse_velocity", "rmse_velocity_stderr")
     for name, fb in (("cfwmd", "state"), ("cfwmd2", "state+cov")):
@@ -531,12 +497,12 @@ def _fig10_table3(profile: str, seed: int) -> dict:
     return out
 
 
-def compute_fig10(profile: str, seed: int) -> dict:
-    return dict(_fig10_table3(profile, seed))
+def compute_fig10(profile: str, seed: int, **over) -> dict:
+    return dict(_fig10_table3(profile, seed, *_sizes(profile, over)))
 
 
-def compute_table3(profile: str, seed: int) -> dict:
-    d = _fig10_table3(profile, seed)
+def compute_table3(profile: str, seed: int, **over) -> dict:
+    d = _fig10_table3(profile, seed, *_sizes(profile, over))
     keep = ("profile", "seed", "trials", "particles", "block_size", "l", "cfwmd_transmissions",
             "cfwmd_transmissions_stderr", "cfwmd2_transmissions", "cfwmd2_transmissions_stderr",
             "printed_cfwmd", "printed_cfwmd2", "cfwmd_z_vs_printed", "cfwmd2_z_vs_printed",
@@ -650,6 +616,7 @@ register(Entry(
     "RMSE of all-send, random selection, CFoMD and CFwMD.",
     chapter=CHAPTER, label="sec-zheng2014-fig8",
     parameters={**PARAMS, "l": L_FIG8, "feedback": "state (Proposition 7)"},
+    settable=SETTABLE,
     compute=compute_fig8, plot=plot_fig8, checks=checks_fig8, status="reproduced",
     note=_NOTE_SCENARIO + "The orderings the paper states hold with paired errors (CFwMD < "
     "CFoMD < random; all-send best; RMSE rising at the end). Our copy of the paper has no "
@@ -664,6 +631,7 @@ register(Entry(
     chapter=CHAPTER, label="sec-zheng2014-fig9",
     parameters={**PARAMS, "l": list(L_FIG9), "feedback": "state (Proposition 7)",
                 "x_axis": "measured average transmissions per step; all-send at 9"},
+    settable=SETTABLE,
     compute=compute_fig9, plot=plot_fig9, checks=checks_fig9, status="reproduced",
     note=_NOTE_SCENARIO + "The values of l are our choice (the paper does not list them). "
     "Runs at l = 2 are those of Fig. 8 and the CFwMD runs at l = 2, 4, 6 those of Fig. 10. "
@@ -678,6 +646,7 @@ register(Entry(
     chapter=CHAPTER, label="sec-zheng2014-fig10",
     parameters={**PARAMS, "l": list(L_FIG10),
                 "feedback": "state (Proposition 7) vs state+cov (Proposition 8)"},
+    settable=SETTABLE,
     compute=compute_fig10, plot=plot_fig10, checks=checks_fig10, status="reproduced",
     note=_NOTE_SCENARIO + "Shares its runs with Table III (one computation).",
 ))
@@ -688,6 +657,7 @@ register(Entry(
     "l = 2, 4, 6, against the printed Table III.",
     chapter=CHAPTER, label="sec-zheng2014-table3",
     parameters={**PARAMS, "l": list(L_FIG10), "printed": TABLE3_PRINTED},
+    settable=SETTABLE,
     compute=compute_table3, plot=plot_table3, checks=checks_table3, status="differs",
     note=_NOTE_SCENARIO + "The paper's statements hold (CFwMD sends fewer than l; CFwMD2 is "
     "closer to l and removes more than half of the shortfall), but the numbers are lower than "

@@ -20,16 +20,13 @@ Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
 
 from __future__ import annotations
 
-import concurrent.futures
-import contextlib
 import functools
-import multiprocessing
 
 import numpy as np
 
 from fusioncenter import censoring as cs
 from fusioncenter import censoring_vector as cv
-from fusioncenter import plotting
+from fusioncenter import context, plotting
 from fusioncenter.figures.registry import Claim, Entry, register
 from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (Z_* = 4)
     SCHEMES,
@@ -38,11 +35,12 @@ from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (
     _by_l_data,
     _by_l_panels,
     _curves,
-    _one_blas_thread_env,
     _pairs,
     _printed_max_abs_diff,
     _rmse_panels,
     _schemes_data,
+    _settable,
+    _size,
     _stack,
     _stacked,
     _transmissions_data,
@@ -50,7 +48,6 @@ from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (
     _z_claim_ordered,
     checks_fig1,
 )
-from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
 OWN_IDS: tuple[str, ...] = ()
@@ -67,8 +64,6 @@ TRIALS_FIG5 = {"fast": 512, "paper": 5000}
 PARTICLES_FIG5 = {"fast": 200, "paper": 1000}
 #: Fig. 6: the exact filter's gain over CFoMD is smaller: more trials in the fast profile.
 TRIALS_FIG6 = {"fast": 512, "paper": 5000}
-#: Worker processes in the paper profile (``None``: serial). The fast profile is serial.
-WORKERS = {"fast": None, "paper": 2}
 
 LABELS = {"all-send": "all-send", "random": "random selection", "cfomd": "CFoMD",
           "cfwmd": "CFwMD", "cfwmd2": "CFwMD2", "printed": "CFwMD, Prop. 6 as printed",
@@ -108,32 +103,15 @@ DATA_KEYS = {
 
 
 # ------------------------------------------------------------------------- running
-class _Pool:
-    """Two worker processes (spawned, so that ``OPENBLAS_NUM_THREADS=1`` takes effect in them)
-    for the paper profile; ``pool = None`` (serial) for the fast profile."""
-
-    def __init__(self, profile: str):
-        self.workers = by_profile(profile, **WORKERS)
-        self.pool = None
-        self._stack = contextlib.ExitStack()
-
-    def __enter__(self):
-        if self.workers:
-            self._stack.enter_context(_one_blas_thread_env())
-            self.pool = self._stack.enter_context(concurrent.futures.ProcessPoolExecutor(
-                self.workers, mp_context=multiprocessing.get_context("spawn")))
-        return self
-
-    def __exit__(self, *exc):
-        self._stack.close()  # shuts the pool down, then restores the variables
-        return False
-
-
 def _run(sc: cv.VectorScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
          seed: int, likelihood: str = "exact", pool=None) -> cs.CensoringResult:
     return cv.run(sc, scheme, l=l, n_trials=n, n_particles=P, seed=seed, feedback=feedback,
                   likelihood=likelihood, executor=pool,
                   chunk_size=None if pool is None else 256)
+
+
+# Where the trials run is the execution context's (fusioncenter.context.executor()); the data
+# do not depend on it.
 
 
 def _params(sc: cv.VectorScenario, **extra) -> dict:
@@ -148,16 +126,16 @@ FIG4 = {"N": 2, "l": 1.0, "feedback": "state"}
 
 
 @functools.lru_cache(maxsize=4)
-def _fig4_runs(profile: str, seed: int) -> tuple:
+def _fig4_runs(seed: int, n: int, P: int) -> tuple:
     sc = cv.VectorScenario(N=FIG4["N"])
-    n, P = by_profile(profile, **TRIALS), by_profile(profile, **PARTICLES)
-    with _Pool(profile) as ex:
-        return tuple(_run(sc, s, feedback="state", l=FIG4["l"], n=n, P=P, seed=seed,
-                          pool=ex.pool) for s in SCHEMES)
+    ex = context.executor()
+    return tuple(_run(sc, s, feedback="state", l=FIG4["l"], n=n, P=P, seed=seed, pool=ex)
+                 for s in SCHEMES)
 
 
-def compute_fig4(profile: str, seed: int) -> dict:
-    return _schemes_data(_fig4_runs(profile, seed), FIG4["N"], FIG4["l"])
+def compute_fig4(profile: str, seed: int, **over) -> dict:
+    return _schemes_data(_fig4_runs(seed, *_size(profile, TRIALS, PARTICLES, over)),
+                         FIG4["N"], FIG4["l"])
 
 
 def plot_fig4(data: dict):
@@ -180,6 +158,7 @@ register(Entry(
     chapter=CHAPTER, label="sec-zheng2014-fig4",
     parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="state"),
     compute=compute_fig4, plot=plot_fig4, checks=checks_fig4, status="reproduced",
+    settable=_settable(TRIALS, PARTICLES),
     note="The ordering all-send < CFwMD < CFoMD < random of Section VII.A holds for position "
     "and velocity with large paired z-scores, which is what the paper says of Fig. 4. The "
     "figure's values are not given in the text, so only the ordering and the transmission "
@@ -192,15 +171,14 @@ FIG5 = {"N": 4, "l": list(L_FIG5), "feedback": ["state (CFwMD)", "state+cov (CFw
 
 
 @functools.lru_cache(maxsize=4)
-def _fig5_runs(profile: str, seed: int) -> tuple:
+def _fig5_runs(seed: int, n: int, P: int) -> tuple:
     """(CFwMD runs, CFwMD2 runs) at every l: shared by Fig. 5 and Table II."""
     sc = cv.VectorScenario(N=FIG5["N"])
-    n, P = by_profile(profile, **TRIALS_FIG5), by_profile(profile, **PARTICLES_FIG5)
-    with _Pool(profile) as ex:
-        a = tuple(_run(sc, "cfwmd", feedback="state", l=l, n=n, P=P, seed=seed,
-                       pool=ex.pool) for l in L_FIG5)
-        b = tuple(_run(sc, "cfwmd", feedback="state+cov", l=l, n=n, P=P, seed=seed,
-                       pool=ex.pool) for l in L_FIG5)
+    ex = context.executor()
+    a = tuple(_run(sc, "cfwmd", feedback="state", l=l, n=n, P=P, seed=seed, pool=ex)
+              for l in L_FIG5)
+    b = tuple(_run(sc, "cfwmd", feedback="state+cov", l=l, n=n, P=P, seed=seed, pool=ex)
+              for l in L_FIG5)
     return a, b
 
 
@@ -209,8 +187,8 @@ def _silent_steps(res: cs.CensoringResult) -> float:
     return float(np.mean(res.mc.samples[..., res.scenario.d] == 0))
 
 
-def compute_fig5(profile: str, seed: int) -> dict:
-    a, b = _fig5_runs(profile, seed)
+def compute_fig5(profile: str, seed: int, **over) -> dict:
+    a, b = _fig5_runs(seed, *_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
     return _by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
         [[_silent_steps(r) for r in a], [_silent_steps(r) for r in b]]))
 
@@ -247,8 +225,8 @@ def checks_fig5(data: dict) -> list[Claim]:
     ]
 
 
-def compute_table2(profile: str, seed: int) -> dict:
-    a, b = _fig5_runs(profile, seed)
+def compute_table2(profile: str, seed: int, **over) -> dict:
+    a, b = _fig5_runs(seed, *_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
     return _transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
 
 
@@ -291,6 +269,7 @@ register(Entry(
     parameters=_params(_sc4, l=list(L_FIG5), feedback=["state", "state+cov"],
                        trials=dict(TRIALS_FIG5), particles=dict(PARTICLES_FIG5)),
     compute=compute_fig5, plot=plot_fig5, checks=checks_fig5, status="differs",
+    settable=_settable(TRIALS_FIG5, PARTICLES_FIG5),
     note="CFwMD2 beats CFwMD at l = 2 and 3, as in the paper, but at l = 1 CFwMD is better -- "
     "the reversal the paper reports for scalar observations (Fig. 2) and says it did not "
     "observe for vector ones. The paper's explanation for the scalar case (longer runs of "
@@ -309,6 +288,7 @@ register(Entry(
                        trials=dict(TRIALS_FIG5), particles=dict(PARTICLES_FIG5),
                        paper_values=PAPER_TABLE2),
     compute=compute_table2, plot=plot_table2, checks=checks_table2, status="differs",
+    settable=_settable(TRIALS_FIG5, PARTICLES_FIG5),
     note="Same runs as Fig. 5. CFwMD2 meets the target l closely for every l and is closer "
     "to it than CFwMD for l > 1, as in the paper; it agrees with the printed CFwMD2 values "
     "within 0.02 (at the paper's scale z = -1.4, -0.8, -3.7). CFwMD agrees with the printed "
@@ -326,21 +306,20 @@ FIG6_CURVES = ("all-send", "random", "cfomd", "printed", "exact")
 
 
 @functools.lru_cache(maxsize=4)
-def _fig6_runs(profile: str, seed: int) -> tuple:
+def _fig6_runs(seed: int, n: int, P: int) -> tuple:
     sc = cv.VectorScenario(N=FIG6["N"])
-    n, P = by_profile(profile, **TRIALS_FIG6), by_profile(profile, **PARTICLES)
     l = FIG6["l"]
-    with _Pool(profile) as ex:
-        runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, pool=ex.pool)
-                for s in ("all-send", "random", "cfomd")]
-        for lk in ("printed", "exact"):
-            runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
-                             likelihood=lk, pool=ex.pool))
+    ex = context.executor()
+    runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, pool=ex)
+            for s in ("all-send", "random", "cfomd")]
+    for lk in ("printed", "exact"):
+        runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
+                         likelihood=lk, pool=ex))
     return tuple(runs)
 
 
-def compute_fig6(profile: str, seed: int) -> dict:
-    runs = _fig6_runs(profile, seed)
+def compute_fig6(profile: str, seed: int, **over) -> dict:
+    runs = _fig6_runs(seed, *_size(profile, TRIALS_FIG6, PARTICLES, over))
     by = dict(zip(FIG6_CURVES, runs, strict=True))
     cur = [_curves(r) for r in runs]
     printed_diff = _printed_max_abs_diff(by)
@@ -410,6 +389,7 @@ register(Entry(
     parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="none",
                        likelihood=["printed", "exact"], trials=dict(TRIALS_FIG6)),
     compute=compute_fig6, plot=plot_fig6, checks=checks_fig6, status="differs",
+    settable=_settable(TRIALS_FIG6, PARTICLES),
     note="Proposition 6 as printed, with the paper's law (21) for the local predictions, "
     "weights the particles exactly as CFoMD (every silent factor integrates to a constant in "
     "x) and sums to about 2.27 over the outcomes, so it cannot produce the gain of the "

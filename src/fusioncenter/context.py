@@ -1,0 +1,380 @@
+"""The execution context of a registry compute: where its Monte Carlo tasks run.
+
+A registry entry's ``compute`` is a function of the profile, the seed and its documented
+parameters only; *where* its trials run is the executor of the active context:
+
+``serial``
+    in the calling process;
+``processes`` or ``processes:N``
+    a pool of ``N`` worker processes (default: the number of usable cores), started with the
+    ``spawn`` method (safe in notebooks, scripts and threads) and limited to one BLAS / OpenMP
+    thread each;
+``dask:local``
+    a ``dask.distributed.LocalCluster`` of one single-threaded worker process per core;
+``dask:ADDRESS``
+    the ``dask.distributed`` scheduler at ``ADDRESS`` (e.g. ``tcp://10.0.0.5:8786``); its
+    workers need the same environment (``requirements/lock.txt`` and this package).
+
+Because :func:`fusioncenter.montecarlo.simulate` fixes every random draw by the seed and its
+blocks, the data are bitwise identical under every executor: the executor is a matter of speed.
+
+:func:`Entry.run_compute <fusioncenter.figures.registry.Entry.run_compute>` activates the
+context; a compute that pays for parallel work asks for :func:`executor` (``None`` means
+serial) and passes it to the Monte Carlo runner. The default spec is the environment variable
+:data:`EXECUTOR_ENV` (how the book build sets it) or, unset, :func:`default_spec`: a process
+pool in the ``paper`` profile on a machine with several cores, serial otherwise (the fast
+profile's runs are too short to repay starting workers).
+
+Pools are started on first use and kept for the life of the process (one per spec), so that a
+chapter computing several entries starts its workers once; :func:`shutdown` stops them (also
+registered with :mod:`atexit`).
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import contextvars
+import os
+import threading
+from collections.abc import Iterator
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from typing import Any
+
+from fusioncenter.profile import check_profile
+
+__all__ = ["EXECUTOR_ENV", "ExecutionContext", "parse_executor", "default_spec", "cores",
+           "activate", "current", "executor", "workers", "shutdown"]
+
+#: Environment variable with the executor spec of the book build (and any process).
+EXECUTOR_ENV = "FUSIONCENTER_EXECUTOR"
+#: Variables that cap the BLAS / OpenMP threads of a worker process.
+THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+
+
+def cores() -> int:
+    """The number of cores this process may use (at least 1)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover (not Linux)
+        return max(1, os.cpu_count() or 1)
+
+
+def parse_executor(spec: str) -> str:
+    """Validate an executor spec and return it normalised.
+
+    Parameters
+    ----------
+    spec
+        ``serial``, ``processes``, ``processes:N`` (``N >= 1``), ``dask:local`` or
+        ``dask:ADDRESS``.
+
+    Returns
+    -------
+    str
+        ``serial``, ``processes:N`` (``processes`` alone becomes ``processes:<cores>``),
+        ``dask:local`` or ``dask:ADDRESS``.
+    """
+    if not isinstance(spec, str):
+        raise ValueError(f"executor must be a string spec, got {spec!r}")
+    s = spec.strip()
+    if s == "serial":
+        return s
+    if s == "processes":
+        return f"processes:{cores()}"
+    if s.startswith("processes:"):
+        n = s.split(":", 1)[1]
+        if not n.isdigit() or int(n) < 1:
+            raise ValueError(f"executor {spec!r}: processes:N needs an integer N >= 1")
+        return f"processes:{int(n)}"
+    if s.startswith("dask:") and s[5:].strip():
+        return "dask:" + s[5:].strip()
+    raise ValueError(f"executor must be one of serial, processes[:N], dask:local or "
+                     f"dask:ADDRESS (a dask.distributed scheduler), got {spec!r}")
+
+
+def default_spec(profile: str) -> str:
+    """The executor used when none is given: :data:`EXECUTOR_ENV` if set, else
+    ``processes:<cores>`` for the ``paper`` profile on several cores, ``serial`` otherwise."""
+    env = os.environ.get(EXECUTOR_ENV, "").strip()
+    if env:
+        try:
+            return parse_executor(env)
+        except ValueError as exc:
+            raise ValueError(f"environment variable {EXECUTOR_ENV}: {exc}") from None
+    if check_profile(profile) == "paper" and cores() > 1:
+        return f"processes:{cores()}"
+    return "serial"
+
+
+@dataclass(frozen=True)
+class ExecutionContext:
+    """Everything a registry compute depends on, and where it runs.
+
+    ``profile`` and ``seed`` and ``parameters`` (the overrides of the entry's documented
+    parameters) fix the data; ``executor`` (a spec of :func:`parse_executor`) only where the
+    Monte Carlo tasks run.
+    """
+
+    profile: str
+    seed: int
+    executor: str = "serial"
+    parameters: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        check_profile(self.profile)
+        object.__setattr__(self, "executor", parse_executor(self.executor))
+
+
+_CURRENT: contextvars.ContextVar[ExecutionContext | None] = contextvars.ContextVar(
+    "fusioncenter_context", default=None)
+
+
+@contextlib.contextmanager
+def activate(ctx: ExecutionContext) -> Iterator[ExecutionContext]:
+    """Make ``ctx`` the active context inside the ``with`` block (nests; thread-safe)."""
+    token = _CURRENT.set(ctx)
+    try:
+        yield ctx
+    finally:
+        _CURRENT.reset(token)
+
+
+def current() -> ExecutionContext | None:
+    """The active context, or ``None`` outside :meth:`Entry.run_compute`."""
+    return _CURRENT.get()
+
+
+def executor() -> Executor | None:
+    """The active context's executor (started on first use), ``None`` when serial.
+
+    A compute passes it to :func:`fusioncenter.montecarlo.simulate` (or a ``run`` built on
+    it). Outside any context (a direct call of a compute function) it is ``None``.
+    """
+    ctx = current()
+    if ctx is None or ctx.executor == "serial":
+        return None
+    return _pool(ctx.executor)
+
+
+def workers() -> int:
+    """How many tasks the active executor runs at once (1 when serial)."""
+    ctx = current()
+    if ctx is None or ctx.executor == "serial":
+        return 1
+    if ctx.executor.startswith("processes:"):
+        return int(ctx.executor.split(":", 1)[1])
+    ex = _pool(ctx.executor)
+    try:
+        return max(1, sum(w["nthreads"] for w in ex._client.scheduler_info()["workers"].values()))
+    except Exception:  # noqa: BLE001 (only a hint for chunking)
+        return cores()
+
+
+# ------------------------------------------------------------------------------ pools
+_POOLS: dict[str, Any] = {}
+_CLOSERS: list = []
+_LOCK = threading.Lock()
+
+
+def _one_blas_thread() -> None:
+    """Worker initializer: one BLAS / OpenMP thread in this process.
+
+    The variables of :data:`THREAD_VARS` are set for anything the worker starts; the BLAS
+    already loaded (a spawned worker imports NumPy while unpickling its first task, possibly
+    before this runs) is limited through OpenBLAS's own ``*openblas_set_num_threads*`` (what
+    threadpoolctl does); silently nothing where that is not found (not Linux, another BLAS).
+    """
+    import ctypes
+
+    os.environ.update({k: "1" for k in THREAD_VARS})
+    import numpy  # noqa: F401 (loads the BLAS, so that its threads can be set below)
+
+    try:
+        with open("/proc/self/maps") as fh:
+            paths = {ln.split()[-1] for ln in fh
+                     if "openblas" in ln.lower() and ln.split()[-1].startswith("/")}
+    except OSError:  # pragma: no cover (not Linux)
+        return
+    names = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
+             "openblas_set_num_threads64_", "openblas_set_num_threads")
+    for path in sorted(paths):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for name in names:
+            fn = getattr(lib, name, None)
+            if fn is not None:
+                fn(1)
+                break
+
+
+@contextlib.contextmanager
+def _thread_env() -> Iterator[None]:
+    old = {k: os.environ.get(k) for k in THREAD_VARS}
+    os.environ.update({k: "1" for k in THREAD_VARS})
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _start(spec: str):
+    if spec.startswith("processes:"):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(int(spec.split(":", 1)[1]),
+                                   mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_one_blas_thread)
+        _CLOSERS.append(lambda: pool.shutdown(wait=True, cancel_futures=True))
+        return pool
+    from dask.distributed import Client, LocalCluster
+
+    address = spec[len("dask:"):]
+    if address == "local":
+        with _thread_env():  # the nanny also sets them (distributed.nanny.pre-spawn-environ)
+            cluster = LocalCluster(n_workers=cores(), threads_per_worker=1, processes=True,
+                                   dashboard_address=None, silence_logs=40)
+        client = Client(cluster)
+        _CLOSERS.append(cluster.close)
+    else:
+        try:
+            client = Client(address, timeout=30)
+        except OSError as exc:
+            raise RuntimeError(f"executor dask:{address}: cannot reach the scheduler ({exc})") \
+                from None
+    _CLOSERS.append(client.close)
+    ex = client.get_executor()
+    ex._client = client  # for workers()
+    return ex
+
+
+def _pool(spec: str):
+    with _LOCK:
+        pool = _POOLS.get(spec)
+        if pool is None:
+            pool = _POOLS[spec] = _start(spec)
+        return pool
+
+
+def shutdown() -> None:
+    """Stop every pool and cluster this process started (the next use starts them again)."""
+    with _LOCK:
+        _POOLS.clear()
+        closers = _CLOSERS[:]
+        _CLOSERS.clear()
+    for close in reversed(closers):  # client before cluster
+        with contextlib.suppress(Exception):
+            close()
+
+
+atexit.register(shutdown)
+
+
+# ------------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class Parameter:
+    """A documented parameter of a registry entry that ``compute`` accepts as an override.
+
+    Parameters
+    ----------
+    name
+        The keyword (``--set name=value`` on the command line).
+    kind
+        ``int``, ``float`` or ``floats`` (a comma-separated list on the command line).
+    doc
+        One line: what it is, with its unit.
+    default
+        The value used without an override: one value, or a dict ``{profile: value}``.
+    minimum, maximum
+        Inclusive bounds of the value (of every element for ``floats``); ``None``: unbounded.
+    model
+        ``True`` if it changes the paper's setting (``N``, ``l``, noise levels): the claims the
+        entry marks paper-specific are then skipped by ``verify``. ``False`` (trials,
+        particles, paths) if it changes only the Monte Carlo accuracy: every claim applies.
+    """
+
+    name: str
+    kind: str
+    doc: str
+    default: Any
+    minimum: float | None = None
+    maximum: float | None = None
+    model: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("int", "float", "floats"):
+            raise ValueError(f"parameter {self.name}: kind must be int, float or floats")
+
+    def default_for(self, profile: str) -> Any:
+        d = self.default
+        return d[check_profile(profile)] if isinstance(d, dict) else d
+
+    def _scalar(self, value, kind: str):
+        import math
+
+        import numpy as np
+
+        if isinstance(value, str):
+            text = value.strip()
+            try:
+                value = int(text) if kind == "int" else float(text)
+            except ValueError:
+                what = "an integer" if kind == "int" else "a number"
+                raise ValueError(f"parameter {self.name}: expected {what}, got {text!r}") from None
+        if isinstance(value, bool) or not isinstance(value, int | float | np.integer
+                                                     | np.floating):
+            raise ValueError(f"parameter {self.name}: expected a number, got {value!r}")
+        if kind == "int":
+            if isinstance(value, float | np.floating) and not float(value).is_integer():
+                raise ValueError(f"parameter {self.name}: expected an integer, got {value!r}")
+            value = int(value)
+        else:
+            value = float(value)
+            if not math.isfinite(value):
+                raise ValueError(f"parameter {self.name}: must be finite, got {value!r}")
+        if self.minimum is not None and value < self.minimum:
+            raise ValueError(f"parameter {self.name}: must be >= {self.minimum:g}, got {value!r}")
+        if self.maximum is not None and value > self.maximum:
+            raise ValueError(f"parameter {self.name}: must be <= {self.maximum:g}, got {value!r}")
+        return value
+
+    def parse(self, value) -> Any:
+        """``value`` (a Python value or the text of ``--set``) checked and converted; a
+        ``ValueError`` naming the parameter otherwise."""
+        if self.kind != "floats":
+            return self._scalar(value, self.kind)
+        if isinstance(value, str):
+            value = [v for v in value.split(",") if v.strip()]
+        if not isinstance(value, list | tuple) or not value:
+            raise ValueError(f"parameter {self.name}: expected a non-empty list of numbers "
+                             f"(comma-separated), got {value!r}")
+        return tuple(self._scalar(v, "float") for v in value)
+
+    def describe(self) -> str:
+        bounds = ""
+        if self.minimum is not None or self.maximum is not None:
+            lo = "" if self.minimum is None else f"{self.minimum:g} <= "
+            hi = "" if self.maximum is None else f" <= {self.maximum:g}"
+            bounds = f", {lo}{self.name}{hi}"
+        return f"{self.name} ({self.kind}{bounds}; default {self.default}): {self.doc}"
+
+
+def check_overrides(entry_id: str, declared, overrides: dict) -> dict:
+    """``overrides`` checked against the ``declared`` :class:`Parameter` objects of an entry:
+    the parsed values, or a ``ValueError`` listing the valid keys."""
+    by_name = {p.name: p for p in declared}
+    unknown = sorted(set(overrides) - set(by_name))
+    if unknown:
+        valid = ", ".join(sorted(by_name)) or "none (this entry takes no overrides)"
+        raise ValueError(f"{entry_id}: unknown parameter(s) {', '.join(unknown)}; valid keys: "
+                         f"{valid}")
+    return {k: by_name[k].parse(v) for k, v in overrides.items()}

@@ -1,0 +1,209 @@
+"""Issue 17's examples for the command line and the claims: exit codes, strict JSON, real
+booleans, claims that fail on NaN data, and the profile from the environment."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from fusioncenter import figures
+from fusioncenter.cli import dumps, jsonable, main
+from fusioncenter.context import Parameter
+from fusioncenter.figures.registry import Claim, nonfinite_keys
+
+
+def _strict_loads(text: str):
+    def no_constant(name):
+        raise AssertionError(f"non-standard JSON constant {name}")
+
+    return json.loads(text, parse_constant=no_constant)
+
+
+@pytest.fixture
+def probe(monkeypatch):
+    """A cheap registered entry whose data hold NumPy scalars and non-finite values."""
+    from fusioncenter.figures import registry
+
+    figures.ids()
+    seen = {}
+
+    def compute(profile, seed, **over):
+        seen["profile"] = profile
+        return {"nan": np.float64("nan"), "inf": np.inf, "f32": np.float32(1.5),
+                "arr": np.array([1.0, -np.inf]), "i": np.int64(3), "b": np.bool_(True),
+                "k": over.get("k", 2), "text": "x"}
+
+    def checks(data):
+        return [Claim("general", True), Claim("the paper's number", True, paper_specific=True)]
+
+    entry = figures.Entry(id="book-cli-probe", paper="book", kind="figure", caption="probe",
+                          chapter="book/howto", compute=compute, checks=checks,
+                          plot=lambda d: None, status="reproduced",
+                          nonfinite_ok=("nan", "inf", "arr"),
+                          settable=(Parameter("k", "int", "a count", 2, minimum=1),
+                                    Parameter("N", "int", "sensors", 2, minimum=1, model=True)))
+    monkeypatch.setitem(registry.REGISTRY, entry.id, entry)
+    return seen
+
+
+# ------------------------------------------------------------------------------ claims
+def test_claim_passed_must_be_a_real_bool():
+    with pytest.raises(TypeError, match="passed must be a bool"):
+        Claim("x", "False")
+    with pytest.raises(TypeError, match="passed must be a bool"):
+        Claim("x", 1)
+    with pytest.raises(TypeError, match="passed must be a bool"):
+        Claim("x", np.array([True]))
+    c = Claim("x", np.bool_(False))
+    assert c.passed is False and not c
+    assert Claim("y", True)
+
+
+def _nanify(value):
+    """Every float of ``value`` (arrays, scalars, nested lists and dicts) replaced by NaN."""
+    if isinstance(value, dict):
+        return {k: _nanify(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return type(value)(_nanify(v) for v in value)
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fc":
+        return np.full_like(value, np.nan)
+    if isinstance(value, float | np.floating):
+        return float("nan")
+    return value
+
+
+NAN_ENTRIES = [("background-riccati", {}), ("background-kf-montecarlo", {}),
+               ("dey2009-fig1", {"paths": 2100, "grid_paths": 100}), ("leong2011-fig1", {}),
+               ("mo2015-rate", {})]
+
+
+@pytest.mark.parametrize(("entry_id", "over"), NAN_ENTRIES)
+def test_every_claim_fails_on_all_nan_data(entry_id, over):
+    e = figures.get(entry_id)
+    data = e.run_compute("fast", **over)
+    assert not nonfinite_keys(data, e.nonfinite_ok)  # the real data are finite
+    claims = e.run_checks(_nanify(data))
+    assert claims and not any(claims), [c.name for c in claims if c]
+    assert all("non-finite" in c.detail for c in claims)
+
+
+def test_nonfinite_keys_looks_inside_containers():
+    data = {"a": 1.0, "b": [1.0, float("inf")], "c": {"d": np.array([np.nan])}, "e": "nan",
+            "f": np.arange(3), "g": np.array(["x"], dtype=object)}
+    assert nonfinite_keys(data) == ["b", "c"]
+    assert nonfinite_keys(data, allowed=("b",)) == ["c"]
+
+
+# ------------------------------------------------------------------------------ JSON
+def test_strict_json_encodes_nonfinite_and_numpy_scalars_one_way():
+    assert jsonable({"a": np.float32(2.5), "b": np.float64("nan"), "c": [np.inf, -np.inf],
+                     "d": np.int8(3), "e": np.bool_(True), "f": 1 + 2j}) == {
+        "a": 2.5, "b": "NaN", "c": ["Infinity", "-Infinity"], "d": 3, "e": True,
+        "f": [1.0, 2.0]}
+    assert _strict_loads(dumps({"x": np.array([np.nan, 1.0])})) == {"x": ["NaN", 1.0]}
+
+
+def test_cli_json_is_strict_and_records_the_run(probe, capsys):
+    assert main(["compute", "book-cli-probe", "--json", "--set", "k=7"]) == 0
+    out = _strict_loads(capsys.readouterr().out)
+    assert out["nan"] == "NaN" and out["inf"] == "Infinity" and out["arr"] == [1.0, "-Infinity"]
+    assert out["f32"] == 1.5 and out["i"] == 3 and out["b"] is True and out["k"] == 7
+    assert out["_run"] == {"id": "book-cli-probe", "profile": "fast", "seed": 20260101,
+                           "executor": "serial", "parameters": {"k": 7, "N": 2},
+                           "overridden": ["k"]}
+
+
+# ------------------------------------------------------------------------------ exit codes
+def _one_line_error(err: str) -> str:
+    lines = [ln for ln in err.splitlines() if ln.startswith("error:")]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+def test_output_to_a_directory_or_unwritable_path_exits_3(probe, tmp_path, capsys):
+    assert main(["compute", "book-cli-probe", "--csv", str(tmp_path)]) == 3
+    assert "is a directory" in _one_line_error(capsys.readouterr().err)
+    assert main(["compute", "book-cli-probe", "--csv", str(tmp_path / "no" / "x.csv")]) == 3
+    assert "does not exist" in _one_line_error(capsys.readouterr().err)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert main(["plot", "book-cli-probe", "-o", str(blocker)]) == 3
+    _one_line_error(capsys.readouterr().err)
+    assert main(["compute", "book-cli-probe", "--csv", "/proc/self/nope.csv"]) == 3
+    _one_line_error(capsys.readouterr().err)
+
+
+def test_corrupt_compute_cache_exits_3(probe, tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    (tmp_path / "book-cli-probe.fast.20260101.pickle").write_bytes(b"not a pickle")
+    assert main(["compute", "book-cli-probe", "--json"]) == 3
+    assert "unreadable" in _one_line_error(capsys.readouterr().err)
+    with pytest.raises(figures.registry.ComputeCacheError, match="delete it"):
+        figures.get("book-cli-probe").run_compute("fast")
+
+
+@pytest.mark.parametrize("argv", [
+    ["compute", "book-cli-probe", "--json", "--set", "k=0"],
+    ["compute", "book-cli-probe", "--json", "--set", "zz=1"],
+    ["compute", "book-cli-probe", "--json", "--set", "k"],
+    ["compute", "book-cli-probe", "--json", "--executor", "gpu"],
+    ["verify", "zheng2014-table1", "--set", "N=1.5"],
+])
+def test_bad_values_exit_2_with_one_line(probe, argv, capsys):
+    assert main(argv) == 2
+    _one_line_error(capsys.readouterr().err)
+
+
+def test_unknown_set_key_lists_the_valid_ones(probe, capsys):
+    assert main(["compute", "zheng2014-table1", "--json", "--set", "trial=5"]) == 2
+    assert "valid keys: N, particles, trials" in capsys.readouterr().err
+
+
+def test_verify_skips_paper_specific_claims_under_a_model_override(probe, capsys):
+    assert main(["verify", "book-cli-probe", "--set", "k=3"]) == 0
+    assert "2 passed, 0 failed" in capsys.readouterr().out
+    assert main(["verify", "book-cli-probe", "--set", "N=5"]) == 0
+    out = capsys.readouterr().out
+    assert "SKIP  the paper's number  [paper-specific: N overridden]" in out
+    assert "1 passed, 0 failed, 1 skipped (paper-specific)" in out
+
+
+def test_claim_failure_exits_1(probe, monkeypatch, capsys):
+    entry = figures.get("book-cli-probe")
+    monkeypatch.setattr(entry, "checks", lambda d: [Claim("wrong", False)])
+    assert main(["verify", "book-cli-probe"]) == 1
+    assert "FAIL  wrong" in capsys.readouterr().out
+
+
+def test_cli_honours_the_profile_variable_and_flags_win(probe, monkeypatch, capsys):
+    monkeypatch.setenv("FUSIONCENTER_PROFILE", "paper")
+    monkeypatch.setenv("FUSIONCENTER_EXECUTOR", "serial")
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    assert probe["profile"] == "paper"
+    assert _strict_loads(capsys.readouterr().out)["_run"]["profile"] == "paper"
+    assert main(["compute", "book-cli-probe", "--json", "--profile", "fast"]) == 0
+    assert probe["profile"] == "fast"
+    monkeypatch.setenv("FUSIONCENTER_PROFILE", "huge")
+    assert main(["compute", "book-cli-probe", "--json"]) == 2
+    assert "FUSIONCENTER_PROFILE" in capsys.readouterr().err
+
+
+def test_params_lists_the_settable_parameters(capsys):
+    assert main(["params", "zheng2014-table1"]) == 0
+    out = capsys.readouterr().out
+    assert "trials (int" in out and "N (int" in out and "[changes the paper's setting]" in out
+
+
+def test_module_entry_point_exit_codes():
+    run = [sys.executable, "-m", "fusioncenter"]
+    p = subprocess.run([*run, "compute", "background-riccati", "--json", "--set", "x=1"],
+                       capture_output=True, text=True)
+    assert p.returncode == 2 and "Traceback" not in p.stderr
+    p = subprocess.run([*run, "compute", "background-riccati", "--json"], capture_output=True,
+                       text=True)
+    assert p.returncode == 0 and math.isfinite(_strict_loads(p.stdout)["p_scalar"][0])
