@@ -46,6 +46,7 @@ BLOCK = 25
 #: Worker processes for the paper profile (the machine of the book has two cores).
 WORKERS = 2
 L_FIG8 = 2
+#: The target numbers of transmissions per step l swept in Fig. 9.
 L_FIG9 = (1, 2, 4, 6, 8)
 L_FIG10 = (2, 4, 6)
 #: Table III as printed: average number of transmissions per step.
