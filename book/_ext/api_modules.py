@@ -23,6 +23,8 @@ Two adjustments make docstrings written for ``help()`` render as intended
 * ``|x|`` is an absolute value in plain text but a substitution reference in reStructuredText:
   a bar outside literals and roles is escaped (lines that start with ``|`` or ``+``, the tables
   and line blocks of reStructuredText, are left alone);
+* autosummary ends a module's one-line summary at the first period followed by a space; the
+  abbreviations of :data:`ABBREVIATIONS` ("Figs. 1-4") do not end it;
 * a constant's ``#:`` comment such as "Sample paths per curve: 2 000 (fast) ..." is prose, but
   napoleon reads the first ``words: words`` of an attribute's docstring as its type: the
   docstrings of constants and attributes are given back as they were before napoleon
@@ -160,8 +162,17 @@ def resolve_imported(app, env, node, contnode):
                                contnode)
 
 
+#: Abbreviations after which autosummary's one-line summary must not stop ("Part II: Figs.").
+ABBREVIATIONS = (" Fig.", " Figs.", " Eq.", " Eqs.", " Sec.", " Prop.", " Props.", " e.g.",
+                 " cf.", " resp.")
+
+
 def setup(app):
+    from sphinx.ext import autosummary
+
     app.add_directive("fusioncenter-api", FusioncenterApi)
+    known = autosummary.WELL_KNOWN_ABBREVIATIONS
+    autosummary.WELL_KNOWN_ABBREVIATIONS = (*known, *(a for a in ABBREVIATIONS if a not in known))
     app.setup_extension("sphinx.ext.autodoc")
     app.connect("autodoc-process-docstring", prepare_docstring, priority=400)  # before napoleon
     app.connect("autodoc-process-docstring", restore_prose, priority=600)  # after napoleon
