@@ -5,12 +5,11 @@ SHELL := /bin/bash
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: help venv book test test-slow golden bench lab lock clean
+.PHONY: help venv book test golden bench lab lock clean
 
 help:
 	@echo "make book       build the site (paper profile) into _build/html"
 	@echo "make test       ruff, pytest, strict nbval, strict site build (fast), browser check"
-	@echo "make test-slow  paper-scale checks marked 'slow'"
 	@echo "make golden     regenerate tests/golden/*.ipynb from the chapters"
 	@echo "make bench      run benchmarks/ and print medians and ratios"
 	@echo "make lab        open the chapters as notebooks in JupyterLab"
@@ -25,9 +24,6 @@ book: venv
 
 test: venv
 	@$(PY) tools/run_tests.py
-
-test-slow: venv
-	@FUSIONCENTER_PROFILE=paper $(PY) -m pytest -p no:cacheprovider -m slow tests
 
 golden: venv
 	@$(PY) tools/make_golden.py

@@ -86,7 +86,7 @@ def test_pattern_probabilities_match_simulation_and_marginals():
     assert np.allclose(marg, event.communication_rate(Sigma, C, r, delta, xbar), atol=1e-13)
 
     def chunk(rng, n):
-        _, y, _ = mo2015._draw_example(rng, n)
+        _, y, _ = mo2015.draw_example(rng, n)
         g = event.sample_trigger(rng, y, delta)
         return np.eye(8)[mo2015.pattern_code(g)]
 

@@ -59,22 +59,25 @@ def test_entry_validation():
         figures.register(figures.get("background-riccati"))
 
 
-def test_real_entry_replaces_placeholder_in_either_order(monkeypatch):
+def test_every_paper_figure_has_a_real_entry():
+    for entry_id in figures.PAPER_IDS:
+        entry = figures.get(entry_id)
+        assert entry.status in ("reproduced", "differs"), entry_id
+        assert entry.compute is not None and entry.plot is not None and entry.checks is not None
+        assert entry.paper == entry_id.split("-")[0]
+
+
+def test_register_refuses_a_repeated_id(monkeypatch):
     from fusioncenter.figures import registry
 
-    real = figures.get("background-riccati")
     monkeypatch.setattr(registry, "REGISTRY", {})
-    monkeypatch.setattr(registry, "_PLACEHOLDERS", set())
-    fake_real = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="c",
-                              chapter="book/x", compute=real.compute, plot=real.plot,
-                              checks=real.checks, status="reproduced")
-    holder = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="c", chapter="book/x")
-    registry.register(holder, placeholder=True)
-    assert registry.register(fake_real) is fake_real  # replaces the placeholder
-    assert registry.register(holder, placeholder=True) is fake_real  # placeholder comes too late
-    assert registry.REGISTRY["x-fig1"] is fake_real
+    entry = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="c", chapter="book/x")
+    assert registry.register(entry) is entry
+    assert registry.REGISTRY == {"x-fig1": entry}
+    twin = figures.Entry(id="x-fig1", paper="book", kind="figure", caption="d", chapter="book/x")
     with pytest.raises(ValueError, match="duplicate"):
-        registry.register(fake_real)
+        registry.register(twin)
+    assert registry.REGISTRY["x-fig1"] is entry
 
 
 def test_unknown_id_suggests_near_matches():

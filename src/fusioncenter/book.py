@@ -45,3 +45,152 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
     if failed:
         raise AssertionError(f"{entry_id}: claims failed: {failed}")
     return data, fig
+
+
+# -- helpers for the chapters' own cells ------------------------------------------------------
+# (SymPy and IPython are imported inside the functions: importing this module stays cheap.)
+
+
+def show(lhs: str, rhs) -> None:
+    """Display the equation ``lhs = rhs`` as LaTeX in the notebook.
+
+    Parameters
+    ----------
+    lhs : str
+        LaTeX source of the left-hand side, e.g. ``r"P_{k+1}"``.
+    rhs : sympy.Basic or sympy.MatrixBase
+        A SymPy expression or matrix; it is rendered with :func:`sympy.latex`.
+
+    Returns
+    -------
+    None
+        The equation is passed to :func:`IPython.display.display` as a
+        :class:`IPython.display.Math` object.
+    """
+    import sympy as sp
+    from IPython.display import Math, display
+
+    display(Math(f"{lhs} = {sp.latex(rhs)}"))
+
+
+def _canonical(expr, rewrite):
+    """``cancel(together(expr))``, after ``expr.rewrite(rewrite)`` if ``rewrite`` is given."""
+    import sympy as sp
+
+    if rewrite is not None:
+        expr = expr.rewrite(rewrite)
+    return sp.cancel(sp.together(expr))
+
+
+def assert_zero(expr, rewrite=None) -> None:
+    """Assert that a SymPy expression, or every entry of a SymPy matrix, is exactly zero.
+
+    Each entry is first put over a common denominator (``together``, then ``cancel``), which is
+    exact and much faster than :func:`sympy.simplify` alone on expressions with matrix
+    inverses; ``simplify`` then decides.
+
+    Parameters
+    ----------
+    expr : sympy.Basic or sympy.MatrixBase
+        The expression (or matrix) that should vanish identically.
+    rewrite : sympy function class, optional
+        If given, every entry is rewritten in terms of it first (``expr.rewrite(rewrite)``),
+        e.g. ``sympy.erf`` so that ``erfc`` and ``erf`` terms can cancel.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    AssertionError
+        If the simplified expression (or some entry) is not zero; the message is ``expr``.
+    """
+    import sympy as sp
+
+    if isinstance(expr, sp.MatrixBase):
+        canonical = expr.applyfunc(lambda e: _canonical(e, rewrite))
+        assert sp.simplify(canonical) == sp.zeros(*expr.shape), expr
+    else:
+        assert sp.simplify(_canonical(sp.sympify(expr), rewrite)) == 0, expr
+
+
+def min_eig(M) -> float:
+    """Smallest eigenvalue of the symmetric part of a square matrix.
+
+    Parameters
+    ----------
+    M : array_like, shape (..., n, n)
+        A square matrix, or a stack of them.
+
+    Returns
+    -------
+    float
+        The smallest eigenvalue of ``(M + M^T) / 2`` (over the whole stack); it is ``>= 0``
+        exactly when every matrix is positive semi-definite.
+    """
+    import numpy as np
+
+    M = np.asarray(M, dtype=float)
+    return float(np.linalg.eigvalsh(0.5 * (M + np.swapaxes(M, -1, -2))).min())
+
+
+def pm(value: float, stderr: float, digits: int = 3) -> str:
+    """Format an estimate and its standard error as ``"value ± stderr"``.
+
+    Parameters
+    ----------
+    value : float
+        The estimate.
+    stderr : float
+        Its standard error (or any half-width).
+    digits : int, default 3
+        Number of decimals of both numbers.
+
+    Returns
+    -------
+    str
+        For example ``pm(1.23456, 0.01)`` is ``"1.235 ± 0.010"``.
+    """
+    return f"{value:.{digits}f} ± {stderr:.{digits}f}"
+
+
+def md_table(header, rows):
+    """A Markdown table, for display in a notebook.
+
+    Parameters
+    ----------
+    header : sequence of str
+        The column titles.
+    rows : iterable of sequence
+        One sequence per row; each cell is converted with :class:`str`.
+
+    Returns
+    -------
+    IPython.display.Markdown
+        The table (a header line, a ``|---|`` rule and one line per row); a notebook shows it
+        as a rendered table when it is the value of a cell or passed to ``display``.
+    """
+    from IPython.display import Markdown
+
+    return Markdown(markdown_table(header, rows))
+
+
+def markdown_table(header, rows) -> str:
+    """The Markdown source of the table that :func:`md_table` displays.
+
+    Parameters
+    ----------
+    header : sequence of str
+        The column titles.
+    rows : iterable of sequence
+        One sequence per row; each cell is converted with :class:`str`.
+
+    Returns
+    -------
+    str
+        The lines of the table joined by newlines.
+    """
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines)

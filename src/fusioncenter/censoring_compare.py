@@ -78,9 +78,27 @@ Z_AGREE = 4.0
 
 # ------------------------------------------------------------------------- error arithmetic
 def delta_bound(gradient: Sequence[float], stderr: Sequence[float]) -> float:
-    """``sum_i |g_i| se_i``: an upper bound on the delta-method standard error of ``f(x)`` with
-    gradient ``g``, valid for any correlation between the estimates ``x_i`` (whose marginal
-    standard errors are ``se_i``)."""
+    """An upper bound on a delta-method standard error, valid for any correlation.
+
+    Parameters
+    ----------
+    gradient : sequence of float
+        The gradient ``g`` of the smooth function ``f`` at the estimates ``x``.
+    stderr : sequence of float
+        The marginal standard errors ``se_i`` of the estimates (finite, non-negative), one per
+        entry of ``gradient``.
+
+    Returns
+    -------
+    float
+        ``sum_i |g_i| se_i``, which is at least ``sqrt(g^T C g)`` whatever the covariance ``C``
+        of the estimates.
+
+    Raises
+    ------
+    ValueError
+        If the two are not 1-d of one length, or a standard error is negative or not finite.
+    """
     g = np.asarray(gradient, dtype=float)
     s = np.asarray(stderr, dtype=float)
     if g.shape != s.shape or g.ndim != 1:
@@ -92,15 +110,39 @@ def delta_bound(gradient: Sequence[float], stderr: Sequence[float]) -> float:
 
 
 def variance_ratio(sent, sent_se, l, N: int, dof: int = 1):
-    """The innovation variance ``v`` (in units of the normalizer the sensors divide by) that
-    makes ``sent`` of ``N`` sensors send on average at the threshold ``eta`` designed for ``l``.
+    """The innovation variance that makes ``sent`` of ``N`` sensors send at the threshold for ``l``.
 
-    If a sensor's normalized innovation squared is ``v`` times a ``chi2_dof`` variable, it sends
-    with probability ``P(chi2_dof >= eta / v)``; setting that to ``sent / N`` gives
+    ``v`` is in units of the normalizer the sensors divide by. If a sensor's normalized
+    innovation squared is ``v`` times a ``chi2_dof`` variable, it sends with probability
+    ``P(chi2_dof >= eta / v)``; setting that to ``sent / N`` gives
     ``v = eta / chi2_dof.isf(sent / N)``. ``v = 1`` is the design; ``v < 1`` means the innovations
     are narrower than the sensors assume, and fewer than ``l`` send. For a vector innovation
-    ``v`` is the isotropic equivalent. Returns ``(v, se)``, the standard error by the delta method
-    from ``sent_se``. Arrays broadcast; needs ``0 < l < N`` and ``0 < sent < N``.
+    ``v`` is the isotropic equivalent. Arrays broadcast.
+
+    Parameters
+    ----------
+    sent : array_like
+        Measured average number of transmissions per step, in ``(0, N)``.
+    sent_se : array_like
+        Its standard error (0 for a printed value).
+    l : array_like
+        The target number of transmissions the threshold was designed for, in ``(0, N)``.
+    N : int
+        Number of sensors.
+    dof : int, default 1
+        Dimension of a sensor's innovation (the degrees of freedom of the chi-square law).
+
+    Returns
+    -------
+    v : numpy.ndarray
+        The variance ratio, broadcast shape of the inputs.
+    v_se : numpy.ndarray
+        Its standard error by the delta method from ``sent_se``.
+
+    Raises
+    ------
+    ValueError
+        If ``N`` is not a positive integer or ``l`` or ``sent`` lie outside ``(0, N)``.
     """
     N = censoring._posint("N", N)
     sent, sent_se, l = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
@@ -121,7 +163,33 @@ def variance_ratio(sent, sent_se, l, N: int, dof: int = 1):
 def bandwidth_table(data: Mapping, *, paper_trials: int, N: int, dof: int) -> dict:
     """One of the registry's tables of transmissions (I, II or III) in a common form.
 
-    Keys of the result (arrays ``(2, L)`` have rows CFwMD, CFwMD2):
+    Parameters
+    ----------
+    data : mapping
+        The ``compute`` output of ``zheng2014-table1``, ``-table2`` (keys ``cfwmd``,
+        ``paper_cfwmd``, ``closer_z``, ``n_trials``, ...) or ``-table3``
+        (``cfwmd_transmissions``, ``printed_cfwmd``, ``closer``, ``closer_stderr``, ``trials``).
+    paper_trials : int
+        The paper's number of Monte Carlo trials for this table (keyword-only).
+    N : int
+        Number of sensors.
+    dof : int
+        Dimension of a sensor's innovation.
+
+    Returns
+    -------
+    dict
+        Keys below; arrays ``(2, L)`` have rows CFwMD, CFwMD2.
+
+    Raises
+    ------
+    ValueError
+        If ``data`` is none of the three tables, or its arrays have the wrong shape, are not
+        finite, or have non-positive standard errors.
+
+    Notes
+    -----
+    Keys of the result:
 
     * ``l`` (L,); ``ours``, ``stderr``, ``printed`` (2, L): transmissions per step;
     * ``diff`` = ours - printed; ``paper_stderr`` (2, L): the printed values' Monte Carlo error,
@@ -133,10 +201,6 @@ def bandwidth_table(data: Mapping, *, paper_trials: int, N: int, dof: int) -> di
       of ours minus the printed one;
     * ``v``, ``v_stderr`` (2, L): :func:`variance_ratio` of ours, ``v_printed`` of the printed;
     * ``n_trials``, ``paper_trials``, ``N``, ``dof``.
-
-    Tables I and II come with the keys of ``zheng2014-table1/2`` (``cfwmd``, ``paper_cfwmd``,
-    ``closer_z``, ``n_trials``, ...), Table III with those of ``zheng2014-table3``
-    (``cfwmd_transmissions``, ``printed_cfwmd``, ``closer``, ``closer_stderr``, ``trials``).
     """
     paper_trials = censoring._posint("paper_trials", paper_trials)
     if "cfwmd_transmissions" in data:  # zheng2014-table3
@@ -186,8 +250,26 @@ def bandwidth_table(data: Mapping, *, paper_trials: int, N: int, dof: int) -> di
 
 
 def side_by_side(tables: Mapping[str, Mapping], meta: Mapping[str, Mapping]) -> dict[str, dict]:
-    """:func:`bandwidth_table` of each setting: ``tables[setting]`` is the entry's data and
-    ``meta[setting]`` holds ``paper_trials``, ``N`` and ``dof`` (see :func:`table_meta`)."""
+    """:func:`bandwidth_table` of each of the three settings.
+
+    Parameters
+    ----------
+    tables : mapping of str to mapping
+        ``tables[setting]`` is the ``compute`` output of the setting's table entry
+        (:data:`TABLE_IDS`), for every setting of :data:`SETTINGS`.
+    meta : mapping of str to mapping
+        ``meta[setting]`` holds ``paper_trials``, ``N`` and ``dof`` (see :func:`table_meta`).
+
+    Returns
+    -------
+    dict of str to dict
+        The :func:`bandwidth_table` of each setting, keyed by setting.
+
+    Raises
+    ------
+    ValueError
+        If a setting is missing from ``tables`` or ``meta``.
+    """
     missing = [s for s in SETTINGS if s not in tables or s not in meta]
     if missing:
         raise ValueError(f"tables and meta need the settings {SETTINGS}; missing {missing}")
@@ -195,8 +277,17 @@ def side_by_side(tables: Mapping[str, Mapping], meta: Mapping[str, Mapping]) -> 
 
 
 def table_meta() -> dict[str, dict]:
-    """The paper's trial count, ``N`` and the innovation's dimension for each table, read from
-    the registry modules (Section VII.A and VII.B: 5000 trials, N = 4; VII.C: 200, N = 9)."""
+    """The paper's trial count, ``N`` and the innovation's dimension for each table.
+
+    They are read from the registry modules (Sections VII.A and VII.B: 5000 trials, N = 4;
+    VII.C: 200 trials, N = 9).
+
+    Returns
+    -------
+    dict of str to dict
+        For each setting of :data:`SETTINGS`, the keyword arguments ``paper_trials``, ``N``
+        and ``dof`` of :func:`bandwidth_table`.
+    """
     from fusioncenter.figures import zheng2014, zheng2014_nonlinear, zheng2014_vector
 
     return {
@@ -210,7 +301,20 @@ def table_meta() -> dict[str, dict]:
 
 
 def load_tables(profile: str, seed: int | None = None) -> dict[str, dict]:
-    """Compute Tables I-III through the registry and return :func:`side_by_side` of them."""
+    """Compute Tables I-III through the registry and put them side by side.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``.
+    seed : int, optional
+        Seed of every entry (default: each entry's own).
+
+    Returns
+    -------
+    dict of str to dict
+        :func:`side_by_side` of the three tables with :func:`table_meta`.
+    """
     from fusioncenter import figures
 
     data = {s: figures.get(TABLE_IDS[s]).run_compute(profile, seed) for s in SETTINGS}
@@ -223,8 +327,18 @@ def _cells(tables: Mapping[str, dict], fn) -> str:
 
 
 def bandwidth_claims(tables: Mapping[str, dict]) -> list[Claim]:
-    """The statements of the chapter ``book/zheng2014/reading`` about Tables I-III, checked on
-    :func:`side_by_side` data (ours in the selected profile, and the printed values)."""
+    """The statements of the chapter ``book/zheng2014/reading`` about Tables I-III, checked.
+
+    Parameters
+    ----------
+    tables : mapping of str to dict
+        :func:`side_by_side` data (ours in the selected profile, and the printed values).
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        One claim per statement, each with the numbers it was decided on.
+    """
     T = {s: tables[s] for s in SETTINGS}
     hi = {s: t["l"] > 1 for s, t in T.items()}
 
@@ -342,9 +456,25 @@ def _row(setting, figure, feedback, N, l, rmse, rmse_se, sent, gain, rest=None, 
 
 
 def payoff_rows(data: Mapping[str, Mapping]) -> list[dict]:
-    """What using the silences (CFwMD) buys, one row per setting, from the registry data of
-    :data:`PAYOFF_IDS` (keyed by entry id).
+    """What using the silences (CFwMD) buys, one row per setting.
 
+    Parameters
+    ----------
+    data : mapping of str to mapping
+        The ``compute`` outputs of the entries of :data:`PAYOFF_IDS`, keyed by entry id.
+
+    Returns
+    -------
+    list of dict
+        One row per setting and feedback, described below.
+
+    Raises
+    ------
+    ValueError
+        If an entry of :data:`PAYOFF_IDS` is missing.
+
+    Notes
+    -----
     Each row: ``setting``, ``figure``, ``feedback``, ``N``, ``l``; ``rmse`` and ``rmse_stderr``
     (time-averaged position RMSE of all-send, random, CFoMD and CFwMD, m); ``cfwmd_sent``
     (transmissions per step); ``gain`` = CFoMD - CFwMD with its paired ``gain_stderr`` and
@@ -424,10 +554,21 @@ def payoff_rows(data: Mapping[str, Mapping]) -> list[dict]:
 
 
 def gain_by_l(fig9: Mapping) -> dict:
-    """Fig. 9 (nonlinear grid) as a sweep over ``l``: ``l`` (L,); ``sent`` (3, L) measured
-    transmissions of random, CFoMD, CFwMD; ``gain``, ``gain_stderr`` (L,) = CFoMD - CFwMD
-    (paired); ``random_minus_cfomd``, ``random_minus_cfomd_stderr`` (L,); ``shrink`` = gain at
-    the smallest ``l`` minus gain at the largest, with the conservative ``shrink_stderr``."""
+    """Fig. 9 (the nonlinear setting) as a sweep over ``l``.
+
+    Parameters
+    ----------
+    fig9 : mapping
+        The ``compute`` output of ``zheng2014-fig9``.
+
+    Returns
+    -------
+    dict
+        ``l`` (L,); ``schemes``; ``sent`` (3, L) the measured transmissions of random, CFoMD
+        and CFwMD; ``gain``, ``gain_stderr`` (L,) = CFoMD - CFwMD (paired);
+        ``random_minus_cfomd``, ``random_minus_cfomd_stderr`` (L,); ``shrink`` = gain at the
+        smallest ``l`` minus gain at the largest, with the conservative ``shrink_stderr``.
+    """
     g = -np.asarray(fig9["diff_cfwmd-cfomd"], dtype=float)
     sg = np.asarray(fig9["diff_cfwmd-cfomd_stderr"], dtype=float)
     return {
@@ -440,8 +581,22 @@ def gain_by_l(fig9: Mapping) -> dict:
 
 
 def load_payoff(profile: str, seed: int | None = None) -> tuple[list[dict], dict]:
-    """Compute the entries of :data:`PAYOFF_IDS` through the registry and return
-    ``(payoff_rows(...), gain_by_l(fig9))``."""
+    """Compute the entries of :data:`PAYOFF_IDS` through the registry and summarize them.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``.
+    seed : int, optional
+        Seed of every entry (default: each entry's own).
+
+    Returns
+    -------
+    rows : list of dict
+        :func:`payoff_rows` of the entries.
+    sweep : dict
+        :func:`gain_by_l` of ``zheng2014-fig9``.
+    """
     from fusioncenter import figures
 
     data = {e: figures.get(e).run_compute(profile, seed) for e in PAYOFF_IDS}
@@ -454,7 +609,25 @@ def _conservative_z(a: float, sa: float, b: float, sb: float) -> float:
 
 
 def payoff_claims(rows: Sequence[Mapping], sweep: Mapping) -> list[Claim]:
-    """The chapter's statements about :func:`payoff_rows` and :func:`gain_by_l`, checked."""
+    """The chapter's statements about :func:`payoff_rows` and :func:`gain_by_l`, checked.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        The output of :func:`payoff_rows`.
+    sweep : mapping
+        The output of :func:`gain_by_l`.
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        One claim per statement, each with the numbers it was decided on.
+
+    Raises
+    ------
+    ValueError
+        If ``rows`` lacks a setting the statements are about.
+    """
     def fmt(fn, sel=None):
         return "; ".join(f"{r['setting']}, feedback {r['feedback']}, l = {r['l']:g}: {fn(r)}"
                          for r in rows if sel is None or sel(r))

@@ -81,11 +81,14 @@ __all__ = [
 #:
 #: ``"stochastic"``        the notes' trigger on the innovation; the centre uses the silence
 #:                         (silent sensor = measurement 0 with variance ``r_i + delta_i``): exact.
+#:
 #: ``"stochastic-ignore"`` same trigger, but the centre drops silent sensors as if the silence
 #:                         carried no information (zheng2014's "CFoMD" idea): *not* exact, its
 #:                         ``P`` is not the error covariance. A baseline.
+#:
 #: ``"random"``            sensor ``i`` sends with probability ``p_i`` independently of the data
 #:                         (the notes' "previous lecture"); a silent sensor is simply dropped.
+#:
 #: ``"all-send"``          every sensor sends at every step (the ordinary Kalman filter).
 SCHEMES = ("stochastic", "stochastic-ignore", "random", "all-send")
 

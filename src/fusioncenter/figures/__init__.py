@@ -3,7 +3,7 @@
 >>> from fusioncenter import figures
 >>> entry = figures.get("dey2009-fig1")
 >>> entry.status
-'not-started'
+'reproduced'
 """
 
 from fusioncenter.figures.registry import (
@@ -20,7 +20,8 @@ from fusioncenter.figures.registry import (
     register,
 )
 
-#: The ids of the papers' own figures and tables (fixed by the foundation issue).
+#: The ids of the papers' own figures and tables (fixed by the foundation issue); each is
+#: registered by the module of its part.
 PAPER_IDS: tuple[str, ...] = (
     *(f"dey2009-fig{i}" for i in range(1, 5)),
     "leong2011-fig1",

@@ -22,12 +22,36 @@ VECTOR = {"dt": 1.0, "q": 0.5, "r": 4.0, "m0": [0.0, 1.0], "P0": [[10.0, 0.0], [
 
 
 def vector_model():
+    """The constant-velocity example :data:`VECTOR` as a model.
+
+    Returns
+    -------
+    fusioncenter.kalman.LinearGaussianModel
+        Position and velocity, position measured, with the noise levels, initial mean and
+        covariance of :data:`VECTOR`.
+    """
     return constant_velocity(dt=VECTOR["dt"], q=VECTOR["q"], r=VECTOR["r"], m0=VECTOR["m0"],
                              P0=np.array(VECTOR["P0"]))
 
 
 def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
-    """Prediction and filtered covariances from filterpy's ``KalmanFilter`` (the reference)."""
+    """Prediction and filtered covariances from filterpy's ``KalmanFilter`` (the reference).
+
+    Parameters
+    ----------
+    model : fusioncenter.kalman.LinearGaussianModel
+        The model; its matrices are copied into a ``filterpy.kalman.KalmanFilter``.
+    steps : int
+        Number of time updates.
+
+    Returns
+    -------
+    pred : numpy.ndarray, shape (steps + 1, nx, nx)
+        ``P_{k|k-1}`` for ``k = 0, ..., steps`` (``pred[0]`` is the prior covariance ``P0``).
+    post : numpy.ndarray, shape (steps + 1, nx, nx)
+        ``P_{k|k}`` after each measurement update. Covariances do not depend on the measured
+        values, so zeros are fed as measurements.
+    """
     from filterpy.kalman import KalmanFilter
 
     kf = KalmanFilter(dim_x=model.nx, dim_z=model.ny)
@@ -45,7 +69,26 @@ def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 # ------------------------------------------------------------------------ riccati convergence
 def compute_riccati(profile: str, seed: int) -> dict:
-    """Deterministic: the profile and seed do not matter."""
+    """Data of ``background-riccati``: the scalar and the vector Riccati recursions.
+
+    Deterministic: the profile and the seed do not matter.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"`` (unused).
+    seed : int
+        Unused.
+
+    Returns
+    -------
+    dict
+        ``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction
+        variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form
+        limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector``
+        (steps + 1, 2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy``
+        the same from filterpy, ``P_vector_inf`` (2, 2) the DARE solution.
+    """
     s = SCALAR
     k = np.arange(s["steps"] + 1)
     p = riccati.scalar_sequence(s["p0"], s["a"], s["q"], s["c"], s["r"], s["steps"])
@@ -68,6 +111,17 @@ def compute_riccati(profile: str, seed: int) -> dict:
 
 
 def plot_riccati(data: dict):
+    """The two panels of ``background-riccati``: scalar recursion, vector diagonal (log scale).
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_riccati`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (ax1, ax2) = plotting.subplots(1, 2)
     k = data["k"]
     ax1.plot(k, data["p_scalar"], label=r"$p_{k}$ (recursion)")
@@ -88,6 +142,18 @@ def plot_riccati(data: dict):
 
 
 def checks_riccati(data: dict) -> list[Claim]:
+    """Fixed point, DARE agreement, monotone convergence and agreement with filterpy.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_riccati`.
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        Five claims, each with the measured gap in its detail.
+    """
     p, p_inf = data["p_scalar"], data["p_scalar_inf"]
     gap = np.abs(p - p_inf)
     P, P_inf = data["P_vector"], data["P_vector_inf"]
@@ -138,6 +204,25 @@ def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int) -> np.ndarr
 
 
 def compute_mc(profile: str, seed: int) -> dict:
+    """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` (2 000 trials) or ``"paper"`` (50 000 trials).
+    seed : int
+        Seed of :func:`fusioncenter.montecarlo.simulate`.
+
+    Returns
+    -------
+    dict
+        ``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering error of
+        position and velocity and its standard error; ``n_trials`` and ``seed``;
+        ``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and
+        ``normalized_mse_stderr`` (float) the squared error divided by the Riccati variance,
+        averaged over steps and components (1 for a correct filter), with its standard error
+        over trials.
+    """
     steps = VECTOR["steps"]
     n = by_profile(profile, fast=2_000, paper=50_000)
     res = montecarlo.simulate(functools.partial(_kf_squared_errors, steps=steps), n, seed)
@@ -160,6 +245,17 @@ def compute_mc(profile: str, seed: int) -> dict:
 
 
 def plot_mc(data: dict):
+    """Monte Carlo mean squared error with 95 % bands against the Riccati variances.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_mc`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plotting.subplots()
     k = data["k"]
     for i, name in enumerate(["position (m$^2$)", "velocity (m$^2$/s$^2$)"]):
@@ -176,6 +272,19 @@ def plot_mc(data: dict):
 
 
 def checks_mc(data: dict) -> list[Claim]:
+    """The simulated errors agree with the Riccati variances, step by step and on average.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_mc`.
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        Two claims: every z-score below 4.5, and the normalized error within 4 standard errors
+        of 1.
+    """
     z = (data["mse"] - data["riccati_diag"]) / data["stderr"]
     # 62 z-scores: under a correct filter each is ~N(0, 1), so |z| < 4.5 everywhere fails by
     # chance with probability < 62 * 7e-6 = 4e-4.

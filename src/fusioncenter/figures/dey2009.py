@@ -228,10 +228,59 @@ def _compute_scalar(kind: str, profile: str, seed: int, **over) -> dict:
 
 
 def compute_fig1(profile: str, seed: int, **over) -> dict:
+    """Data of ``dey2009-fig1``: one sensor, Rayleigh fading, E[p_k] against (17)-(18).
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of the entry's settable parameters (see ``Entry.settable``).
+
+    Returns
+    -------
+    dict
+        ``kind`` (``"rayleigh"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0`` the
+        settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``, ``seed``;
+        for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]`` and its
+        standard error, ``s``, ``q`` (3, 101) the tight and loose bound sequences and
+        ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and
+        ``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same
+        arrays prefixed ``grid_`` (no window statistic) for the settings
+        ``grid_sigma_v``, ``grid_p0`` of :data:`SCALAR_GRID`.
+    """
     return _compute_scalar("rayleigh", profile, seed, **over)
 
 
 def compute_fig2(profile: str, seed: int, **over) -> dict:
+    """Data of ``dey2009-fig2``: one sensor, Nakagami(1/2) fading, E[p_k] against (19)-(20).
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of the entry's settable parameters (see ``Entry.settable``).
+
+    Returns
+    -------
+    dict
+        ``kind`` (``"nakagami"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0`` the
+        settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``, ``seed``;
+        for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]`` and its
+        standard error, ``s``, ``q`` (3, 101) the tight and loose bound sequences and
+        ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and
+        ``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same
+        arrays prefixed ``grid_`` (no window statistic) for the settings
+        ``grid_sigma_v``, ``grid_p0`` of :data:`SCALAR_GRID`. Also ``rayleigh_mean``,
+        ``rayleigh_stderr``, ``rayleigh_s``, ... (Fig. 1's runs, for the comparison),
+        ``grid_rayleigh_s`` and ``q_as_printed`` (3, 101), the loose bound with the paper's
+        printed (20).
+    """
     return _compute_scalar("nakagami", profile, seed, **over)
 
 
@@ -275,10 +324,32 @@ def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
 
 
 def plot_fig1(data: dict):
+    """Fig. 1: E[p_k] with its bounds per sigma_v (left), ratios on the alternative grid.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_fig1`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     return _plot_scalar(data, ("$s_k$ (17)", "$q_k$ (18)"), "Rayleigh")
 
 
 def plot_fig2(data: dict):
+    """Fig. 2: as :func:`plot_fig1` for Nakagami(1/2), with Fig. 1's means for comparison.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_fig2`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     return _plot_scalar(data, (r"$\tilde s_k$ (19)", r"$\tilde q_k$ (20)"), "Nakagami(1/2)")
 
 
@@ -425,14 +496,67 @@ def _compute_multi(access: str, profile: str, seed: int, **over) -> dict:
 
 
 def compute_fig3(profile: str, seed: int, **over) -> dict:
+    """Data of ``dey2009-fig3``: two sensors, multi-access channel, E[p_k] against s_k, t_k.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of the entry's settable parameters (see ``Entry.settable``).
+
+    Returns
+    -------
+    dict
+        ``access`` (``"multi-access"``); ``k`` (101,); ``lams`` (3, 2) the settings of :data:`LAMS`;
+        ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows): ``mean``,
+        ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101) the
+        worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their fixed
+        points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed ``grid_``
+        (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of :data:`LAM_GRID`.
+    """
     return _compute_multi("multi-access", profile, seed, **over)
 
 
 def compute_fig4(profile: str, seed: int, **over) -> dict:
+    """Data of ``dey2009-fig4``: two sensors, orthogonal channels, E[p_k] against s_k, t_k.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of the entry's settable parameters (see ``Entry.settable``).
+
+    Returns
+    -------
+    dict
+        ``access`` (``"orthogonal"``); ``k`` (101,); ``lams`` (3, 2) the settings of :data:`LAMS`;
+        ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows): ``mean``,
+        ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101) the
+        worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their fixed
+        points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed ``grid_``
+        (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of :data:`LAM_GRID`.
+    """
     return _compute_multi("orthogonal", profile, seed, **over)
 
 
 def plot_multi(data: dict):
+    """Figs. 3 and 4: one panel per (lambda_1, lambda_2), and which bound is tighter on the grid.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_fig3` or :func:`compute_fig4`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, axes = plotting.subplots(2, 2)
     k = data["k"]
     for i, (ax, (l1, l2)) in enumerate(zip(axes.flat, data["lams"], strict=False)):
@@ -473,6 +597,19 @@ def _tighter(s, t) -> tuple[bool, bool]:
 
 
 def checks_multi(data: dict) -> list[Claim]:
+    """The claims of Figs. 3 and 4: both bounds dominate E[p_k], converge, and either can win.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_fig3` or :func:`compute_fig4`.
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        Dominance and convergence of ``s_k`` and ``t_k``, stationarity, and that each bound is
+        the tighter one in some setting (main settings and grid).
+    """
     s_wins, t_wins = _tighter(data["s_limit"], data["t_limit"])
     gs, gt = _tighter(data["grid_s_limit"], data["grid_t_limit"])
     return [
@@ -549,6 +686,26 @@ register(Entry(
 
 # ---------------------------------------------------------------------- dey2009-ordering
 def compute_ordering(profile: str, seed: int) -> dict:
+    """Data of ``dey2009-ordering``: the multi-access bound with and without ordering (22).
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+
+    Returns
+    -------
+    dict
+        Settings ``k``, ``lam1``, ``lam2`` (the swept lambda_2 of :data:`ORDERING`),
+        ``main_lam2``, ``n_paths``, ``n_grid_paths``, ``seed``, ``p0``, ``worst_sensor``; at
+        the main setting (101,) each: ``ma_mean``, ``ma_stderr``, ``orth_mean``, ``orth_stderr``
+        (Monte Carlo E[p_k] of both schemes), ``alone_mean``, ``alone_stderr`` (sensor 1 alone),
+        ``s_valid`` (the bound with the worst sensor last, (22) holds), ``s_sensor1_last`` and
+        ``s_sensor2_last`` (one sensor last), ``t_ma``, ``t_orth``; and the same prefixed
+        ``sweep_`` with one row per lambda_2 (7, 101), without the sensor-alone run.
+    """
     m = MULTI
     n = by_profile(profile, **PATHS)
     ng = by_profile(profile, **GRID_PATHS)
@@ -597,6 +754,17 @@ def compute_ordering(profile: str, seed: int) -> dict:
 
 
 def plot_ordering(data: dict):
+    """The violated bound at the main setting (left) and steady states against lambda_2.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_ordering`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (ax, ax2) = plotting.subplots(1, 2)
     k = data["k"]
     c = plotting.OKABE_ITO
@@ -632,6 +800,19 @@ def plot_ordering(data: dict):
 
 
 def checks_ordering(data: dict) -> list[Claim]:
+    """What ordering (22) protects: the bound with the best sensor last fails on multi-access.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_ordering` (or a corrupted copy, in the tests).
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        The violation of the wrongly ordered bound, the validity of the ordered one and of
+        the orthogonal bounds, and the comparisons with sensor 1 alone.
+    """
     zviol = _excess_z(data["ma_mean"][1:], data["ma_stderr"][1:], data["s_sensor1_last"][1:])
     zalone = ((data["ma_mean"][-1] - data["alone_mean"][-1])
               / np.hypot(data["ma_stderr"][-1], data["alone_stderr"][-1]))
@@ -705,6 +886,26 @@ def _theorem33_by_quadrature(Z, A, c, Sw, sv2, sn2, lam) -> np.ndarray:
 
 
 def compute_vector(profile: str, seed: int) -> dict:
+    """Data of ``dey2009-vector``: E[P_k] of the 2-state example against Zbar_k (Section 3.2).
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+
+    Returns
+    -------
+    dict
+        ``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the Monte
+        Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the bounding
+        sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``,
+        ``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and v'Zbar_k v;
+        ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which ``Z_next_quadrature``
+        (5, 2, 2) evaluates Theorem 3.3's recursion (14) by quadrature; ``window_diff`` and
+        ``window_diff_stderr`` (float) for the trace.
+    """
     A, c, Sw, sv2, sn2, ch, P0m = _vector_model()
     n = by_profile(profile, **PATHS)
     res = fading.vector_paths(A, c, Sw, sv2, sn2, ch, P0m, STEPS, n, seed, block_size=BLOCK)
@@ -733,6 +934,17 @@ def compute_vector(profile: str, seed: int) -> dict:
 
 
 def plot_vector(data: dict):
+    """The entries of E[P_k] against Zbar_k (left) and the PSD order by direction (right).
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_vector`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (ax, ax2) = plotting.subplots(1, 2)
     k = data["k"]
     names = [(0, (0, 0), "$[E P_k]_{11}$", r"$\bar Z_{k,11}$"),
@@ -759,6 +971,18 @@ def plot_vector(data: dict):
 
 
 def checks_vector(data: dict) -> list[Claim]:
+    """E[P_k] <= Zbar_k in the PSD order, exactness at k = 1, the closed form, convergence.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_vector` (or a corrupted copy, in the tests).
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        One claim per statement, each with the measured z-score or difference.
+    """
     Z = data["Z"]
     iu = np.triu_indices(2)
     z1 = _abs_z(data["mean_triu"][1], data["stderr_triu"][1], Z[1][iu])
@@ -805,6 +1029,27 @@ register(Entry(
 
 # ------------------------------------------------------------------ dey2009-distribution
 def compute_distribution(profile: str, seed: int) -> dict:
+    """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``: the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).
+    seed : int
+        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+
+    Returns
+    -------
+    dict
+        Settings ``k``, ``levels`` (the quantile levels of :data:`DIST`), ``n_paths``,
+        ``n_alt_paths``, ``seed``, ``p0``, ``p0_alt``, ``laws``, ``bins`` (61,) and
+        ``lower_envelope`` (101,) the perfect-channel Riccati sequence; for each law ``L`` in
+        ("rayleigh", "nakagami"): ``L_quantiles`` (5, 101), ``L_mean``, ``L_stderr``, ``L_s``
+        (101,), ``L_density`` (60,) a histogram of p_100, and the scalars ``L_min_rel_gap``,
+        ``L_ks_time``, ``L_ks_p0`` (KS p-values), ``L_above_mean``, ``L_max``,
+        ``L_cdf_lo``, ``L_sf_hi``; the pooled 5 % and 95 % quantiles ``x_lo``, ``x_hi``, and
+        the survival functions ``L_sf`` (40,) on the grid ``sf_x``.
+    """
     s = SCALAR
     sv2 = DIST["sigma_v"] ** 2
     n = by_profile(profile, **DIST_PATHS)
@@ -854,6 +1099,17 @@ def compute_distribution(profile: str, seed: int) -> dict:
 
 
 def plot_distribution(data: dict):
+    """Quantile bands over time, the stationary density and its right tail, both laws.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_distribution`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, axes = plotting.subplots(1, 3)
     k = data["k"]
     lv = data["levels"]
@@ -892,6 +1148,18 @@ def plot_distribution(data: dict):
 
 
 def checks_distribution(data: dict) -> list[Claim]:
+    """Lower envelope, stationarity, independence of p_0, skewness and the tails.
+
+    Parameters
+    ----------
+    data : dict
+        The output of :func:`compute_distribution` (or a corrupted copy, in the tests).
+
+    Returns
+    -------
+    list of fusioncenter.figures.registry.Claim
+        One claim per statement, with the measured p-values, fractions or z-scores.
+    """
     n = data["n_paths"]
     claims = [
         Claim("every sampled p_k is above the sure lower envelope (the Riccati recursion of a "

@@ -56,6 +56,7 @@ STATIC = {"a": 0.9, "sigma_w2": 1.0, "sigma_n2": 1e-9, "c": 1.0,
                          "(b): (16)",
           "infeasible": "realizations where a compared scheme cannot meet D are redrawn "
                         "(M grid chosen; the paper states neither)"}
+#: Figs. 5-6 (fading channels), as in :data:`STATIC` apart from the channel model.
 FADING = {"a": 0.9, "sigma_w2": 1.0, "sigma_n2": 1e-9, "c": 1.0,
           "sigma_v2": "chi2(1) per sensor",
           "h": "Re, Im of h~_{i,k} i.i.d. d_i^-2 N(mu_i, 1); d_i ~ U(20, 100) m, "

@@ -195,8 +195,29 @@ def drop_posterior(xbar, Sigma, C, r, gamma, y):
     return xhat, riccati.measurement_update(Sigma, Ck, R)
 
 
-def _draw_example(rng: np.random.Generator, n: int):
-    """``n`` draws of ``(x, y, xi)`` from :data:`EXAMPLE` (x first, then noise, then uniforms)."""
+def draw_example(rng: np.random.Generator, n: int):
+    """Draw ``n`` independent instances of the state, measurements and trigger uniforms.
+
+    The draws use the example of :func:`example` and are taken in a fixed order (all states
+    first, then the measurement noise, then the uniforms), so that results depend only on
+    ``rng``'s seed.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The source of randomness.
+    n : int
+        Number of instances.
+
+    Returns
+    -------
+    x : numpy.ndarray, shape (n, 2)
+        States drawn from N(xbar, Sigma).
+    y : numpy.ndarray, shape (n, m)
+        Measurements ``C x + v`` of the m sensors, with ``v ~ N(0, diag(r))``.
+    xi : numpy.ndarray, shape (n, m)
+        Uniform draws on [0, 1) for the sensors' stochastic triggers.
+    """
     xbar, Sigma, C, r = example()
     x = xbar + rng.standard_normal((n, len(xbar))) @ np.linalg.cholesky(Sigma).T
     y = x @ C.T + rng.standard_normal((n, len(r))) * np.sqrt(r)
@@ -209,7 +230,7 @@ def conditional_chunk(rng: np.random.Generator, n: int, *, delta) -> np.ndarray:
     naive e_1, naive e_2]`` with ``e = x - E(x | I)`` from the notes' formula and the naive error
     of a centre that drops silent sensors (:func:`drop_posterior`)."""
     xbar, Sigma, C, r = example()
-    x, y, _ = _draw_example(rng, n)
+    x, y, _ = draw_example(rng, n)
     g = event.sample_trigger(rng, y, delta)
     xhat, _ = event.posterior(xbar, Sigma, C, r, delta, g, np.where(g, y, np.nan))
     xnaive, _ = drop_posterior(xbar, Sigma, C, r, g, y)
@@ -224,7 +245,7 @@ def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
     so each trial's ``gamma`` is non-increasing in ``delta``.
     """
     xbar, _, C, _ = example()
-    x, y, xi = _draw_example(rng, n)
+    x, y, xi = draw_example(rng, n)
     y0 = y - C @ xbar  # the same draw with prior mean 0
     deltas = np.asarray(deltas, dtype=float)[None, :, None]
     g0 = xi[:, None, :] > np.exp(-(y0[:, None, :] ** 2) / (2 * deltas))
@@ -351,7 +372,7 @@ def _tradeoff_chunk(rng: np.random.Generator, n: int, *, rates, deltas) -> np.nd
     and of random selection: ``(n, 2 + 6 L)``. Common random numbers across schemes and levels."""
     xbar, Sigma, C, r = example()
     m = len(r)
-    x, y, xi = _draw_example(rng, n)
+    x, y, xi = draw_example(rng, n)
     cols = []
     xa, Pa = event.posterior(xbar, Sigma, C, r, 1.0, np.ones((n, m), dtype=bool), y)
     cols += [np.sum((xa - x) ** 2, axis=1), np.trace(Pa, axis1=-2, axis2=-1)]

@@ -342,29 +342,29 @@ def _locked(path: Path):
 
 
 REGISTRY: dict[str, Entry] = {}
-_PLACEHOLDERS: set[str] = set()
 
 
-def register(entry: Entry, *, placeholder: bool = False) -> Entry:
-    """Add ``entry`` to the registry.
+def register(entry: Entry) -> Entry:
+    """Add an entry to the registry.
 
-    The catalog registers every paper figure as a ``placeholder`` (``not-started``); a topic
-    module that implements the figure registers the real entry under the same id, which replaces
-    the placeholder whichever is imported first. Any other repeated id is an error.
+    Parameters
+    ----------
+    entry : Entry
+        The entry; its ``id`` must not be registered yet.
+
+    Returns
+    -------
+    Entry
+        ``entry`` itself (so that a module can write ``ENTRY = register(Entry(...))``).
+
+    Raises
+    ------
+    ValueError
+        If an entry with the same id is already registered.
     """
-    existing = REGISTRY.get(entry.id)
-    if existing is not None:
-        if placeholder:
-            return existing  # the real entry is already there
-        if entry.id not in _PLACEHOLDERS:
-            raise ValueError(f"duplicate registry id {entry.id!r}")
-    if placeholder and entry.status != "not-started":
-        raise ValueError(f"placeholder {entry.id!r} must be 'not-started'")
+    if entry.id in REGISTRY:
+        raise ValueError(f"duplicate registry id {entry.id!r}")
     REGISTRY[entry.id] = entry
-    if placeholder:
-        _PLACEHOLDERS.add(entry.id)
-    else:
-        _PLACEHOLDERS.discard(entry.id)
     return entry
 
 
@@ -411,11 +411,11 @@ def entries() -> list[Entry]:
     return sorted(REGISTRY.values(), key=_order)  # stable: own entries keep their order
 
 
-#: Modules that register entries: the book's own, one per part, and last the catalog of
-#: placeholders for paper figures no module implements yet. Each may list the ids of the book's
-#: own figures it registers in ``OWN_IDS``.
+#: Modules that register entries: the book's own and one per part. Each may list the ids of the
+#: book's own figures it registers in ``OWN_IDS``; every id of ``figures.PAPER_IDS`` must be
+#: registered by one of them (``tests/test_registry_cli.py`` checks the exact set).
 _MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014_vector",
-            "zheng2014_nonlinear", "synthesis", "catalog")
+            "zheng2014_nonlinear", "synthesis")
 _LOADED = False
 
 

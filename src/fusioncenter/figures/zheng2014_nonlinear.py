@@ -42,6 +42,7 @@ SIZES = {"fast": {"trials": 40, "particles": 5000}, "paper": {"trials": 200, "pa
 #: 10^4 particles a block needs about 100 MB.
 BLOCK = 25
 L_FIG8 = 2
+#: The target numbers of transmissions per step l swept in Fig. 9.
 L_FIG9 = (1, 2, 4, 6, 8)
 L_FIG10 = (2, 4, 6)
 #: Table III as printed: average number of transmissions per step.
