@@ -9,12 +9,12 @@ for a look with :func:`look`; :func:`classify` reads a legend label back into th
 quantity it names, which is how the tests check that every plot keeps the mapping.
 
 Every registry ``plot`` builds its figure with :func:`subplots` and hands it to :func:`finish`.
-:func:`subplots` stacks panels in one column (a panel keeps the full width of the page's text
-column instead of shrinking); :func:`finish` refuses an unlabelled axis, moves every legend out of
-the data area (above its panel, with the panel's title as the legend's heading) and raises any
-text smaller than :data:`MIN_FONT_PT`. :func:`render` turns a finished figure into PNG bytes and
-the facts the book's site checks (panel widths, smallest font); :func:`describe` writes its alt
-text.
+:func:`subplots` (``stack=True``) stacks panels in one column (a panel keeps the full width of
+the page's text column instead of shrinking); :func:`finish` refuses an unlabelled axis, moves
+every legend out of the data area (above its panel, with the panel's title as the legend's
+heading) and raises any text smaller than :data:`MIN_FONT_PT`. :func:`render` turns a finished
+figure into PNG bytes and the facts the book's site checks (panel widths, smallest font);
+:func:`describe` writes its alt text.
 
 The backend is left alone: notebooks keep their inline backend, and the command line selects
 Agg itself (``fusioncenter.cli``).
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import io
 import re
+import textwrap
 from contextlib import contextmanager
 
 import matplotlib
@@ -119,13 +120,13 @@ MIN_FONT_PT = 8.0
 #: Resolution of the figures the book saves (a 6.4 in wide figure is 1280 px).
 SAVE_DPI = 200
 
-_PANEL = (6.4, 3.3)  # one panel: full text width, inches
+_PANEL = (6.4, 3.3)  # one stacked panel: full text width, inches
 
 RC = {
     "axes.prop_cycle": cycler(color=OKABE_ITO) + cycler(linestyle=_LINESTYLES),
     "lines.markersize": 5,
     "lines.linewidth": 1.6,
-    "figure.figsize": _PANEL,
+    "figure.figsize": (6.4, 4.0),
     "figure.dpi": 100,
     "savefig.dpi": 150,
     "savefig.bbox": "tight",
@@ -169,7 +170,7 @@ def look(scheme: str | None = None, quantity: str | None = None, **overrides) ->
         given; the marker for the paper's printed values).
     **overrides
         Anything else (``markersize``, ``alpha``, ``color`` of a parameter for a quantity...);
-        a scheme's colour and marker cannot be overridden.
+        a scheme's colour and marker cannot be overridden (``marker="None"`` draws none).
 
     Returns
     -------
@@ -180,6 +181,8 @@ def look(scheme: str | None = None, quantity: str | None = None, **overrides) ->
         raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
     if quantity is not None and quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
+    aliases = {"ls": "linestyle", "lw": "linewidth", "c": "color", "ms": "markersize"}
+    overrides = {aliases.get(k, k): v for k, v in overrides.items()}
     out: dict = {"marker": "None"}
     if quantity is not None:
         out.update(QUANTITIES[quantity])
@@ -193,7 +196,8 @@ def look(scheme: str | None = None, quantity: str | None = None, **overrides) ->
         if quantity == "paper":
             out["marker"] = "x"
     fixed = ("color", "marker") if scheme is not None else ()
-    clash = [k for k in fixed if k in overrides and overrides[k] != out[k]]
+    clash = [k for k in fixed if k in overrides and overrides[k] != out[k]
+             and not (k == "marker" and overrides[k] in ("None", "none", ""))]
     if clash:
         raise ValueError(f"look({scheme!r}): {clash} are fixed by the scheme")
     out.update(overrides)
@@ -207,20 +211,26 @@ def classify(label: str) -> tuple[str | None, str | None]:
     return scheme, quantity
 
 
-def subplots(nrows: int = 1, ncols: int = 1, *, figsize=None, **kwargs):
-    """``plt.subplots`` in the book's style, panels stacked in one column.
+def subplots(nrows: int = 1, ncols: int = 1, *, stack: bool = False, figsize=None, **kwargs):
+    """``plt.subplots`` in the book's style (figure size scales with the grid).
 
-    A grid of ``nrows x ncols`` panels is laid out as ``nrows * ncols`` full-width rows (read in
-    row-major order), and the axes are returned with the grid's shape, so ``axes[i, j]`` or
-    ``ax1, ax2 = axes`` work as with ``plt.subplots``: on a page column about 700 px wide each
-    panel keeps its full width instead of shrinking to a third of it.
+    With ``stack=True`` (every registry figure) a grid of ``nrows x ncols`` panels is laid out
+    as ``nrows * ncols`` full-width rows (read in row-major order), and the axes are returned
+    with the grid's shape, so ``axes[i, j]`` or ``ax1, ax2 = axes`` work as with
+    ``plt.subplots``: on a page column about 700 px wide each panel keeps its full width instead
+    of shrinking to a half or a third of it.
     """
     use_style()
+    kwargs.setdefault("layout", "constrained")
+    if not stack:
+        w, h = RC["figure.figsize"]
+        if figsize is None:
+            figsize = (w * (0.75 * ncols + 0.25), h * (0.8 * nrows + 0.2))
+        return plt.subplots(nrows, ncols, figsize=figsize, **kwargs)
     n = nrows * ncols
     w, h = _PANEL
     if figsize is None:
         figsize = (w, h * n + 0.6)
-    kwargs.setdefault("layout", "constrained")
     squeeze = kwargs.pop("squeeze", True)
     fig, axes = plt.subplots(n, 1, figsize=figsize, squeeze=False, **kwargs)
     axes = axes.reshape(nrows, ncols)
@@ -239,30 +249,30 @@ def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None,
     return line
 
 
-def errorbar_log(ax, x, y, err, *, label: str | None = None, **kwargs):
+def errorbar_log(ax, x, y, err, *, label: str | None = None, xname: str = "x", **kwargs):
     """``ax.errorbar`` on a log y axis, with ``y -/+ err`` bars whose lower end would reach
-    zero or below (or leave the axis) clipped at the axis and marked.
+    zero or below (and so leave the axis) clipped at the axis bottom and marked.
 
-    The axis bottom is put at a decade below the smallest ``y``; a clipped bar ends in an arrow
-    head and the panel gets a note saying which points were clipped. Returns the container.
+    The axis bottom is put at a decade below the smallest ``y`` of every call on ``ax``; a
+    clipped bar ends in a triangle at the axis, which has its own legend entry saying where
+    (``xname = value``) the bar was clipped. Returns the container.
     """
     x, y, err = (np.asarray(v, dtype=float) for v in (x, y, err))
     bottom = 10.0 ** np.floor(np.log10(np.min(y[y > 0])) - 0.3)
-    lo = y - err
-    clipped = lo <= bottom
+    bottom = min(bottom, getattr(ax, "_fc_log_bottom", bottom))
+    ax._fc_log_bottom = bottom
+    clipped = y - err <= bottom
     lower = np.where(clipped, y - bottom, err)
     cont = ax.errorbar(x, y, yerr=np.vstack([lower, err]), label=label, **kwargs)
     ax.set_yscale("log")
-    cur = ax.get_ylim()
-    ax.set_ylim(bottom, max(cur[1], float(np.max(y + err)) * 1.3))
+    top = max(getattr(ax, "_fc_log_top", 0.0), float(np.max(y + err)) * 1.3)
+    ax._fc_log_top = top
+    ax.set_ylim(bottom, top)
     if np.any(clipped):
-        color = cont.lines[0].get_color()
-        ax.plot(x[clipped], np.full(clipped.sum(), bottom), ls="none", marker="v",
-                color=color, markersize=6, clip_on=False)
         xs = ", ".join(f"{v:g}" for v in x[clipped])
-        note = getattr(ax, "_fc_clip_notes", [])
-        note.append(f"{label.split(' (')[0] if label else 'bar'} at {xs}")
-        ax._fc_clip_notes = note
+        ax.plot(x[clipped], np.full(clipped.sum(), bottom), ls="none", marker="v",
+                color=cont.lines[0].get_color(), markersize=7, clip_on=False, zorder=4,
+                label=f"95 % bar reaches 0, clipped at the axis ({xname} = {xs})")
     return cont
 
 
@@ -282,13 +292,14 @@ def _legend_outside(ax) -> None:
     ax.set_title("")
     leg.remove()
     ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.02, 1.0, 0.0),
-              borderaxespad=0.0, ncols=ncols, title=title or None, alignment="left",
+              borderaxespad=0.0, ncols=ncols, title=textwrap.fill(title, 84) or None,
+              alignment="left",
               fontsize=RC["legend.fontsize"], handlelength=2.4)
 
 
 def finish(fig, *, title: str | None = None):
     """Check that every visible axis has x and y labels, put legends outside the data area,
-    note clipped error bars, raise small text to :data:`MIN_FONT_PT`, add an optional title,
+    raise small text to :data:`MIN_FONT_PT`, add an optional title,
     return ``fig``."""
     for ax in fig.get_axes():
         if not ax.get_visible() or not ax.has_data():
@@ -299,14 +310,9 @@ def finish(fig, *, title: str | None = None):
                 f"y={ax.get_ylabel()!r}): every axis needs a label with units"
             )
     for ax in fig.get_axes():
-        notes = getattr(ax, "_fc_clip_notes", None)
-        if notes:
-            ax.text(0.01, 0.02, "▼ error bar clipped at the axis: " + "; ".join(notes),
-                    transform=ax.transAxes, fontsize=MIN_FONT_PT + 0.5, color="0.2",
-                    va="bottom", ha="left")
         _legend_outside(ax)
     if title:
-        fig.suptitle(title, fontsize=RC["axes.titlesize"])
+        fig.suptitle(textwrap.fill(title, 84), fontsize=RC["axes.titlesize"])
     for text in fig.findobj(matplotlib.text.Text):
         if text.get_text() and text.get_fontsize() < MIN_FONT_PT:
             text.set_fontsize(MIN_FONT_PT)
@@ -349,8 +355,8 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
     facts = {
         "width_px": int(w), "height_px": int(h), "dpi": dpi, "panels": len(axes),
         "columns": max(rows.values(), default=1),
-        "panel_fraction": round(min(fractions, default=1.0), 4),
-        "min_font_pt": round(min((t.get_fontsize() for t in _texts(fig)), default=0.0), 2),
+        "panel_fraction": round(float(min(fractions, default=1.0)), 4),
+        "min_font_pt": round(float(min((t.get_fontsize() for t in _texts(fig)), default=0.0)), 2),
     }
     return png, facts
 
