@@ -57,8 +57,7 @@ def styled_violations(fig) -> list[str]:
                 if marker not in ("None", "none", "", " ", None) and marker != want["marker"]:
                     bad.append(f"{label!r}: marker {marker!r} is not {want['marker']!r}")
             elif quantity is not None:
-                if _dashes(line.get_linestyle()) != _dashes(want["linestyle"]) and \
-                        line.get_linestyle() != want["linestyle"]:
+                if line._unscaled_dash_pattern != _dashes(want["linestyle"]):
                     bad.append(f"{label!r}: line style {line.get_linestyle()!r} is not "
                                f"{quantity}'s {want['linestyle']!r}")
     return bad
@@ -138,3 +137,35 @@ def test_subplots_stack_and_keep_the_grid_shape():
     assert len(xs) == 1  # one column
     assert matplotlib.get_backend()  # the backend is left alone
     plt.close(fig)
+
+
+def _fake_entry(claims):
+    def plot(data):
+        fig, ax = plotting.subplots(stack=True)
+        ax.plot([0, 1], [0, 1], label="CFwMD", **plotting.look("cfwmd"))
+        ax.set(xlabel="x (-)", ylabel="y (-)")
+        return plotting.finish(fig)
+
+    return figures.Entry(id="book-fake", paper="book", kind="figure", caption="A fake.",
+                         chapter="book/x", compute=lambda profile, seed: {"x": 1.0},
+                         plot=plot, checks=lambda data: claims, status="reproduced")
+
+
+def test_reproduce_shows_every_claim_and_names_the_failed_ones(monkeypatch, capsys):
+    from fusioncenter import book
+
+    claims = [figures.Claim("first holds", True, "z = 3.1"),
+              figures.Claim("second <fails>", False, "value 0.5 " + "x" * 200),
+              figures.Claim("third fails", False, "")]
+    monkeypatch.setattr(book.figures, "get", lambda _id: _fake_entry(claims))
+    with pytest.raises(AssertionError, match=r"claims failed: \['second <fails>', 'third fails'\]"):
+        book.reproduce("book-fake", "fast")
+    out = capsys.readouterr().out
+    assert "1 of 3 claims hold" in out
+    assert out.count("PASS: ") == 1 and out.count("FAIL: ") == 2
+    assert max(len(line) for line in out.splitlines()) <= 96  # wrapped, nothing cut off
+    html = book.evidence_html("book-fake", claims)
+    assert html.count("<tr class=") == 3 and "&lt;fails&gt;" in html
+    assert html.startswith('<details class="fc-evidence" open>')  # a failure is shown open
+    assert 'open' not in book.evidence_html("book-fake", claims[:1]).split(">")[0]
+    plt.close("all")

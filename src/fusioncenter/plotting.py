@@ -69,7 +69,7 @@ SCHEMES: dict[str, dict] = {
     # leong2011's power allocations
     "optimal": {"color": "#0072B2", "marker": "o", "linestyle": "-"},
     "equal": {"color": "#D55E00", "marker": "s", "linestyle": "--"},
-    "full-csi": {"color": "#009E73", "marker": "^", "linestyle": "-"},
+    "full-csi": {"color": "#009E73", "marker": "D", "linestyle": "-"},
     "no-csi": {"color": "#E69F00", "marker": "v", "linestyle": "--"},
 }
 
