@@ -185,6 +185,7 @@ def check_site(
     if not (html_dir / "index.html").is_file():
         return [f"{html_dir}: no index.html (build the site first)"]
     pages = list_pages(html_dir)
+    FIGURE_STATS.update(figures=0, pages=0, min_panel_px=None, min_font_px=None)
 
     try:
         from playwright.sync_api import Error as PlaywrightError
@@ -308,6 +309,7 @@ def check_site(
         site_problems.append(f"only {images} images loaded, expected at least {min_images}")
     n_ok = sum(r.ok for r in results)
     say(f"{len(results)} pages, {math_pages} with typeset math, {images} images loaded")
+    say(registry_figure_summary())
     for prob in site_problems:
         say(f"SITE: {prob}")
     say(f"browser check: {n_ok} passed, {len(results) - n_ok} failed")
@@ -339,6 +341,7 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
         if not img["ok"]:
             res.problems.append(f"page {res.path}: image did not load: {img['src']}")
 
+    check_registry_figures(page, res)
     if not res.math_expected:
         return
     # If a MathJax file already failed to load, do not wait the full timeout for it.
@@ -377,6 +380,104 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
     for u, s in fonts:
         if s != 200:
             res.problems.append(f"page {res.path}: MathJax font {u} answered HTTP {s}")
+
+
+# ---------------------------------------------------------------- registry figures (helper
+# "figures"): every {registry-figure} of book/_ext/registry_figure.py, measured at 1280 px.
+import urllib.request  # noqa: E402  (kept in this block)
+
+FIGURE_VIEWPORT = {"width": 1280, "height": 900}
+MIN_PANEL_PX = 500
+MIN_FONT_PX = 11
+FIGURE_STATS: dict = {"figures": 0, "pages": 0, "min_panel_px": None, "min_font_px": None}
+
+_FIGURES_JS = r"""
+async () => {
+  const out = [];
+  for (const fig of document.querySelectorAll('figure.fc-registry-figure')) {
+    const img = fig.querySelector('img');
+    const facts = fig.querySelector('.fc-facts');
+    const r = {id: fig.id, hasImg: !!img, hasFacts: !!facts,
+               number: (fig.querySelector('.caption-number') || {}).textContent || '',
+               alt: img ? img.getAttribute('alt') || '' : '',
+               linked: !!(img && img.closest('a[href]')), links: []};
+    if (img) {
+      if (!img.complete) await new Promise(res => { img.onload = img.onerror = res; });
+      r.displayed = img.getBoundingClientRect().width;
+      r.natural = img.naturalWidth;
+    }
+    if (facts) {
+      r.panels = +facts.dataset.panels; r.fraction = +facts.dataset.panelFraction;
+      r.fontPt = +facts.dataset.minFontPt; r.dpi = +facts.dataset.dpi;
+    }
+    for (const a of fig.querySelectorAll('.fc-figure-data a[href]')) {
+      r.links.push({href: a.getAttribute('href'), url: a.href});
+    }
+    out.push(r);
+  }
+  return out;
+}
+"""
+
+
+def check_registry_figures(page, res) -> None:
+    """Each registry figure at a 1280 px window: numbered, alt text, linked to its full
+    resolution, its data downloadable, every panel >= MIN_PANEL_PX wide and its smallest font
+    >= MIN_FONT_PX as displayed (font pt x dpi/72 x displayed/natural width)."""
+    before = page.viewport_size
+    if before != FIGURE_VIEWPORT:
+        page.set_viewport_size(FIGURE_VIEWPORT)
+    try:
+        found = page.evaluate(_FIGURES_JS)
+    finally:
+        if before is not None and before != FIGURE_VIEWPORT:
+            page.set_viewport_size(before)
+    if found:
+        FIGURE_STATS["pages"] += 1
+    for f in found:
+        FIGURE_STATS["figures"] += 1
+        where = f"page {res.path}: figure {f['id']}"
+        if not f["hasImg"] or not f["hasFacts"]:
+            res.problems.append(f"{where}: no image or no figure facts")
+            continue
+        if not f["number"].strip():
+            res.problems.append(f"{where}: no figure number")
+        if len(f["alt"]) < 40 or re.fullmatch(r"[0-9a-f]{16,}(\.png)?", f["alt"]):
+            res.problems.append(f"{where}: alt text does not describe it: {f['alt'][:60]!r}")
+        if not f["linked"]:
+            res.problems.append(f"{where}: image not linked to its full resolution")
+        for x in f["links"]:  # asked from here, not from the page: no browser request events
+            try:
+                with urllib.request.urlopen(urllib.request.Request(x["url"], method="HEAD"),
+                                            timeout=10) as r:
+                    x["status"] = r.status
+            except OSError as exc:
+                x["status"] = str(exc)
+        if len(f["links"]) < 2 or any(x["status"] != 200 for x in f["links"]):
+            res.problems.append(f"{where}: data downloads missing or broken: {f['links']}")
+        if not f.get("natural"):
+            continue
+        panel = f["displayed"] * f["fraction"]
+        font = f["fontPt"] * f["dpi"] / 72 * f["displayed"] / f["natural"]
+        for key, v in (("min_panel_px", panel), ("min_font_px", font)):
+            old = FIGURE_STATS[key]
+            FIGURE_STATS[key] = v if old is None else min(old, v)
+        if panel < MIN_PANEL_PX:
+            res.problems.append(f"{where}: a panel is {panel:.0f} px wide at 1280 px "
+                                f"(< {MIN_PANEL_PX})")
+        if font < MIN_FONT_PX:
+            res.problems.append(f"{where}: smallest font {font:.1f} px as displayed "
+                                f"(< {MIN_FONT_PX})")
+
+
+def registry_figure_summary() -> str:
+    s = FIGURE_STATS
+    if not s["figures"]:
+        return "registry figures: none found"
+    return (f"registry figures: {s['figures']} on {s['pages']} pages; narrowest panel "
+            f"{s['min_panel_px']:.0f} px (>= {MIN_PANEL_PX}), smallest font "
+            f"{s['min_font_px']:.1f} px (>= {MIN_FONT_PX}) at 1280 px")
+# ------------------------------------------------------------ end of registry figures block
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,9 +1,20 @@
-"""The one plotting style of the book.
+"""The one plotting style of the book: one look per scheme and per quantity.
 
-Colours are the Okabe–Ito palette (distinguishable with the common colour-vision deficiencies),
-cycled together with line styles and markers so curves stay apart in greyscale too. Every
-registry ``plot`` builds its figure with :func:`subplots` and hands it to :func:`finish`, which
-refuses a figure with an unlabelled axis.
+Colours are the Okabe–Ito palette (distinguishable with the common colour-vision deficiencies)
+plus two of Paul Tol's muted colours. Every scheme of the four papers has ONE colour and ONE
+marker (:data:`SCHEMES`), with zheng2014's own marker key (circle random selection, triangle
+CFoMD, square CFwMD, plus all-send); every quantity drawn against them (Monte Carlo, bounds,
+closed forms, the paper's printed values) has one line style (:data:`QUANTITIES`). A plot asks
+for a look with :func:`look`; :func:`classify` reads a legend label back into the scheme and
+quantity it names, which is how the tests check that every plot keeps the mapping.
+
+Every registry ``plot`` builds its figure with :func:`subplots` and hands it to :func:`finish`.
+:func:`subplots` (``stack=True``) stacks panels in one column (a panel keeps the full width of
+the page's text column instead of shrinking); :func:`finish` refuses an unlabelled axis, moves
+every legend out of the data area (above its panel, with the panel's title as the legend's
+heading) and raises any text smaller than :data:`MIN_FONT_PT`. :func:`render` turns a finished
+figure into PNG bytes and the facts the book's site checks (panel widths, smallest font);
+:func:`describe` writes its alt text.
 
 The backend is left alone: notebooks keep their inline backend, and the command line selects
 Agg itself (``fusioncenter.cli``).
@@ -11,13 +22,19 @@ Agg itself (``fusioncenter.cli``).
 
 from __future__ import annotations
 
+import io
+import re
+import textwrap
 from contextlib import contextmanager
 
 import matplotlib
 import matplotlib.pyplot as plt
+import numpy as np
 from cycler import cycler
 
-__all__ = ["OKABE_ITO", "MARKERS", "RC", "style", "use_style", "subplots", "finish", "errorband"]
+__all__ = ["OKABE_ITO", "MARKERS", "RC", "SCHEMES", "QUANTITIES", "MIN_FONT_PT", "SAVE_DPI",
+           "style", "use_style", "subplots", "finish", "errorband", "errorbar_log", "look",
+           "classify", "render", "describe"]
 
 OKABE_ITO = [
     "#0072B2",  # blue
@@ -29,13 +46,85 @@ OKABE_ITO = [
     "#F0E442",  # yellow
     "#000000",  # black
 ]
+_WINE, _OLIVE = "#882255", "#999933"  # Paul Tol's muted palette (also colour-blind safe)
 _LINESTYLES = ["-", "--", "-.", ":", "-", "--", "-.", ":"]
-#: Markers in the same order, for plots that mark points (``marker=MARKERS[i]``).
+#: Markers in the same order, for plots that mark points of a parameter sweep (not schemes).
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
+
+#: One colour and one marker per scheme, everywhere in the book (``look(scheme)``).
+#: zheng2014's key: circle random selection, triangle CFoMD, square CFwMD, plus all-send.
+SCHEMES: dict[str, dict] = {
+    "all-send": {"color": "#000000", "marker": "P", "linestyle": "-"},
+    "random": {"color": "#D55E00", "marker": "o", "linestyle": "-"},
+    "cfomd": {"color": "#009E73", "marker": "^", "linestyle": "-"},
+    "cfwmd": {"color": "#0072B2", "marker": "s", "linestyle": "-"},
+    "cfwmd2": {"color": "#CC79A7", "marker": "D", "linestyle": "--"},
+    # CFwMD without feedback (zheng2014 Figs. 3 and 6): the likelihood as printed, corrected,
+    # and the exact filter
+    "printed": {"color": "#E69F00", "marker": "x", "linestyle": ":"},
+    "corrected": {"color": _OLIVE, "marker": "v", "linestyle": "-."},
+    "exact": {"color": "#56B4E9", "marker": "s", "linestyle": "-", "linewidth": 2.2},
+    # mo2015's stochastic trigger (a scheme of its own wherever it appears)
+    "trigger": {"color": _WINE, "marker": "*", "linestyle": "-"},
+    # leong2011's power allocations
+    "optimal": {"color": "#0072B2", "marker": "o", "linestyle": "-"},
+    "equal": {"color": "#D55E00", "marker": "s", "linestyle": "--"},
+    "full-csi": {"color": "#009E73", "marker": "D", "linestyle": "-"},
+    "no-csi": {"color": "#E69F00", "marker": "v", "linestyle": "--"},
+}
+
+#: One line style per quantity (its colour is the scheme's or the parameter's, else the one
+#: given here): the Monte Carlo mean is solid, bounds dashed (tight/upper) or dotted
+#: (loose/lower), closed-form limits dash-dotted, the paper's printed values crosses.
+QUANTITIES: dict[str, dict] = {
+    "monte-carlo": {"color": "0.25", "linestyle": "-"},
+    "p-inf": {"color": "#000000", "linestyle": "-", "linewidth": 2.0},
+    "tight-bound": {"color": "0.25", "linestyle": "--"},
+    "loose-bound": {"color": "0.25", "linestyle": ":"},
+    "upper-bound": {"color": "#D55E00", "linestyle": "--"},
+    "lower-bound": {"color": "#0072B2", "linestyle": "--"},
+    "exact-upper": {"color": "#D55E00", "linestyle": (0, (1, 1.5)), "linewidth": 2.2},
+    "exact-lower": {"color": "#0072B2", "linestyle": (0, (1, 1.5)), "linewidth": 2.2},
+    "limit": {"color": "0.45", "linestyle": "-.", "linewidth": 1.0},
+    "paper": {"marker": "x", "linestyle": "none", "markersize": 8},
+}
+
+# label text -> scheme; the first match wins (CFwMD2 before CFwMD, variants before CFwMD)
+_SCHEME_PATTERNS = [
+    ("cfwmd2", r"CFwMD2"),
+    ("printed", r"as printed"),
+    ("corrected", r"corrected"),
+    ("exact", r"exact filter"),
+    ("cfwmd", r"CFwMD"),
+    ("cfomd", r"CFoMD"),
+    ("random", r"random selection"),
+    ("all-send", r"all-send"),
+    ("trigger", r"\btrigger\b"),
+    ("optimal", r"optimal allocation"),
+    ("equal", r"equal power"),
+    ("full-csi", r"full CSI"),
+    ("no-csi", r"no CSI"),
+]
+_QUANTITY_PATTERNS = [
+    ("paper", r"\(paper|\(Table [IVX]+\)"),
+    ("exact-upper", r"exact upper bound"),
+    ("exact-lower", r"exact lower bound"),
+    ("upper-bound", r"^upper bound"),
+    ("lower-bound", r"^lower bound"),
+    ("tight-bound", r"^tight "),
+    ("loose-bound", r"^loose "),
+]
+
+#: No text of a finished figure is smaller (points): 8 pt is about 12 px on the page.
+MIN_FONT_PT = 8.0
+#: Resolution of the figures the book saves (a 6.4 in wide figure is 1280 px).
+SAVE_DPI = 200
+
+_PANEL = (6.4, 3.3)  # one stacked panel: full text width, inches
 
 RC = {
     "axes.prop_cycle": cycler(color=OKABE_ITO) + cycler(linestyle=_LINESTYLES),
-    "lines.markersize": 4,
+    "lines.markersize": 5,
     "lines.linewidth": 1.6,
     "figure.figsize": (6.4, 4.0),
     "figure.dpi": 100,
@@ -44,7 +133,10 @@ RC = {
     "font.size": 10,
     "axes.titlesize": 10,
     "axes.labelsize": 10,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
     "legend.fontsize": 9,
+    "legend.title_fontsize": 10,
     "legend.frameon": False,
     "axes.grid": True,
     "grid.alpha": 0.3,
@@ -66,13 +158,87 @@ def use_style() -> None:
     matplotlib.rcParams.update(RC)
 
 
-def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
-    """``plt.subplots`` in the book's style (figure size scales with the grid)."""
+def look(scheme: str | None = None, quantity: str | None = None, **overrides) -> dict:
+    """Keyword arguments for ``ax.plot``/``ax.errorbar`` drawing ``scheme`` and/or ``quantity``.
+
+    Parameters
+    ----------
+    scheme : str, optional
+        A key of :data:`SCHEMES`: sets the colour and the marker (and a default line style).
+    quantity : str, optional
+        A key of :data:`QUANTITIES`: sets the line style (and the colour when no scheme is
+        given; the marker for the paper's printed values).
+    **overrides
+        Anything else (``markersize``, ``alpha``, ``color`` of a parameter for a quantity...);
+        a scheme's colour and marker cannot be overridden (``marker="None"`` draws none).
+
+    Returns
+    -------
+    dict
+        ``color``, ``marker``, ``linestyle`` and any further keywords.
+    """
+    if scheme is not None and scheme not in SCHEMES:
+        raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
+    if quantity is not None and quantity not in QUANTITIES:
+        raise ValueError(f"quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
+    aliases = {"ls": "linestyle", "lw": "linewidth", "c": "color", "ms": "markersize"}
+    overrides = {aliases.get(k, k): v for k, v in overrides.items()}
+    out: dict = {"marker": "None"}
+    if quantity is not None:
+        out.update(QUANTITIES[quantity])
+    if scheme is not None:
+        s = SCHEMES[scheme]
+        if quantity is not None and "linestyle" in QUANTITIES[quantity]:
+            out.update({k: v for k, v in s.items() if k != "linestyle"})
+            out["linestyle"] = QUANTITIES[quantity]["linestyle"]
+        else:
+            out.update(s)
+        if quantity == "paper":
+            out["marker"] = "x"
+    fixed = ("color", "marker") if scheme is not None else ()
+    clash = [k for k in fixed if k in overrides and overrides[k] != out[k]
+             and not (k == "marker" and overrides[k] in ("None", "none", ""))]
+    if clash:
+        raise ValueError(f"look({scheme!r}): {clash} are fixed by the scheme")
+    out.update(overrides)
+    return out
+
+
+def classify(label: str) -> tuple[str | None, str | None]:
+    """The ``(scheme, quantity)`` a legend label names (``None`` where it names none)."""
+    scheme = next((k for k, p in _SCHEME_PATTERNS if re.search(p, label)), None)
+    quantity = next((k for k, p in _QUANTITY_PATTERNS if re.search(p, label)), None)
+    return scheme, quantity
+
+
+def subplots(nrows: int = 1, ncols: int = 1, *, stack: bool = False, figsize=None, **kwargs):
+    """``plt.subplots`` in the book's style (figure size scales with the grid).
+
+    With ``stack=True`` (every registry figure) a grid of ``nrows x ncols`` panels is laid out
+    as ``nrows * ncols`` full-width rows (read in row-major order), and the axes are returned
+    with the grid's shape, so ``axes[i, j]`` or ``ax1, ax2 = axes`` work as with
+    ``plt.subplots``: on a page column about 700 px wide each panel keeps its full width instead
+    of shrinking to a half or a third of it.
+    """
     use_style()
-    w, h = RC["figure.figsize"]
-    kwargs.setdefault("figsize", (w * (0.75 * ncols + 0.25), h * (0.8 * nrows + 0.2)))
     kwargs.setdefault("layout", "constrained")
-    return plt.subplots(nrows, ncols, **kwargs)
+    if not stack:
+        w, h = RC["figure.figsize"]
+        if figsize is None:
+            figsize = (w * (0.75 * ncols + 0.25), h * (0.8 * nrows + 0.2))
+        return plt.subplots(nrows, ncols, figsize=figsize, **kwargs)
+    n = nrows * ncols
+    w, h = _PANEL
+    if figsize is None:
+        figsize = (w, h * n + 0.6)
+    squeeze = kwargs.pop("squeeze", True)
+    fig, axes = plt.subplots(n, 1, figsize=figsize, squeeze=False, **kwargs)
+    axes = axes.reshape(nrows, ncols)
+    if squeeze:
+        axes = axes.squeeze()
+        if axes.ndim == 0:
+            axes = axes.item()
+    return fig, axes
 
 
 def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None, **kwargs):
@@ -83,8 +249,58 @@ def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None,
     return line
 
 
+def errorbar_log(ax, x, y, err, *, label: str | None = None, xname: str = "x", **kwargs):
+    """``ax.errorbar`` on a log y axis, with ``y -/+ err`` bars whose lower end would reach
+    zero or below (and so leave the axis) clipped at the axis bottom and marked.
+
+    The axis bottom is put at a decade below the smallest ``y`` of every call on ``ax``; a
+    clipped bar ends in a triangle at the axis, which has its own legend entry saying where
+    (``xname = value``) the bar was clipped. Returns the container.
+    """
+    x, y, err = (np.asarray(v, dtype=float) for v in (x, y, err))
+    bottom = 10.0 ** np.floor(np.log10(np.min(y[y > 0])) - 0.3)
+    bottom = min(bottom, getattr(ax, "_fc_log_bottom", bottom))
+    ax._fc_log_bottom = bottom
+    clipped = y - err <= bottom
+    lower = np.where(clipped, y - bottom, err)
+    cont = ax.errorbar(x, y, yerr=np.vstack([lower, err]), label=label, **kwargs)
+    ax.set_yscale("log")
+    top = max(getattr(ax, "_fc_log_top", 0.0), float(np.max(y + err)) * 1.3)
+    ax._fc_log_top = top
+    ax.set_ylim(bottom, top)
+    if np.any(clipped):
+        xs = ", ".join(f"{v:g}" for v in x[clipped])
+        ax.plot(x[clipped], np.full(clipped.sum(), bottom), ls="none", marker="v",
+                color=cont.lines[0].get_color(), markersize=7, clip_on=False, zorder=4,
+                label=f"95 % bar reaches 0, clipped at the axis ({xname} = {xs})")
+    return cont
+
+
+def _legend_outside(ax) -> None:
+    """Re-create the axes' legend above its data area, headed by the axes' title."""
+    leg = ax.get_legend()
+    if leg is None:
+        return
+    labels = [t.get_text() for t in leg.get_texts()]
+    own_handles, own_labels = ax.get_legend_handles_labels()
+    handles = own_handles if own_labels == labels else leg.legend_handles
+    ncols = leg._ncols if len(labels) > 1 and leg._ncols > 1 else (2 if len(labels) > 3 else 1)
+    longest = max((len(s) for s in labels), default=0)
+    if longest > 38:
+        ncols = 1
+    title = ax.get_title()
+    ax.set_title("")
+    leg.remove()
+    ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.02, 1.0, 0.0),
+              borderaxespad=0.0, ncols=ncols, title=textwrap.fill(title, 84) or None,
+              alignment="left",
+              fontsize=RC["legend.fontsize"], handlelength=2.4)
+
+
 def finish(fig, *, title: str | None = None):
-    """Check that every visible axis has x and y labels, add an optional title, return ``fig``."""
+    """Check that every visible axis has x and y labels, put legends outside the data area,
+    raise small text to :data:`MIN_FONT_PT`, add an optional title,
+    return ``fig``."""
     for ax in fig.get_axes():
         if not ax.get_visible() or not ax.has_data():
             continue
@@ -93,6 +309,82 @@ def finish(fig, *, title: str | None = None):
                 f"figure axis {ax.get_title()!r} lacks a label (x={ax.get_xlabel()!r}, "
                 f"y={ax.get_ylabel()!r}): every axis needs a label with units"
             )
+    for ax in fig.get_axes():
+        _legend_outside(ax)
     if title:
-        fig.suptitle(title)
+        fig.suptitle(textwrap.fill(title, 84), fontsize=RC["axes.titlesize"])
+    for text in fig.findobj(matplotlib.text.Text):
+        if text.get_text() and text.get_fontsize() < MIN_FONT_PT:
+            text.set_fontsize(MIN_FONT_PT)
     return fig
+
+
+def _texts(fig):
+    return [t for t in fig.findobj(matplotlib.text.Text)
+            if t.get_visible() and t.get_text().strip() and t.get_figure() is not None]
+
+
+def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
+    """PNG bytes of ``fig`` (tight bounding box, ``dpi``) and the facts a page check needs.
+
+    Returns
+    -------
+    png : bytes
+    facts : dict
+        ``width_px``, ``height_px`` (of the PNG), ``dpi``, ``panels`` (axes with data),
+        ``columns`` (panels side by side, at most), ``panel_fraction`` (narrowest data area of
+        a panel as a fraction of the image width), ``min_font_pt`` (smallest text).
+    """
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    bbox = fig.get_tightbbox(renderer)
+    pad = 0.1  # inches, matplotlib's default pad_inches
+    width_in = bbox.width + 2 * pad
+    axes = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
+    fractions = [ax.get_window_extent(renderer).width / fig.dpi / width_in for ax in axes]
+    rows = {}
+    for ax in axes:
+        y0 = round(ax.get_position().y0, 3)
+        rows[y0] = rows.get(y0, 0) + 1
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=pad)
+    png = buf.getvalue()
+    import struct
+
+    w, h = struct.unpack(">II", png[16:24])
+    facts = {
+        "width_px": int(w), "height_px": int(h), "dpi": dpi, "panels": len(axes),
+        "columns": max(rows.values(), default=1),
+        "panel_fraction": round(float(min(fractions, default=1.0)), 4),
+        "min_font_pt": round(float(min((t.get_fontsize() for t in _texts(fig)), default=0.0)), 2),
+    }
+    return png, facts
+
+
+def _plain(s: str) -> str:
+    """Mathtext to readable plain text for alt text (``$\\sigma_v$`` -> ``sigma_v``)."""
+    s = s.replace("$", "")
+    s = re.sub(r"\\(mathrm|text|operatorname|mathbb)\{([^}]*)\}", r"\2", s)
+    s = re.sub(r"\\(tilde|bar|hat)\s*", "", s)
+    s = re.sub(r"\\([A-Za-z]+)", r"\1", s)
+    return re.sub(r"[{}]", "", s).replace("\\,", " ").strip()
+
+
+def describe(fig) -> str:
+    """Alt text: for every panel, what it plots against what, and its curves (legend labels)."""
+    axes = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
+    parts = []
+    sup = fig._suptitle.get_text() if fig._suptitle is not None else ""
+    head = f"{len(axes)}-panel figure" if len(axes) > 1 else "Figure"
+    parts.append(head + (f" ({_plain(sup)})" if sup else "") + ".")
+    for i, ax in enumerate(axes):
+        leg = ax.get_legend()
+        title = ax.get_title() or (leg.get_title().get_text() if leg is not None else "")
+        scale = " (log scale)" if ax.get_yscale() == "log" else ""
+        s = (f"Panel {i + 1}" + (f", {_plain(title)}" if title else "") + f": "
+             f"{_plain(ax.get_ylabel())}{scale} against {_plain(ax.get_xlabel())}")
+        if leg is not None:
+            labels = [_plain(t.get_text()) for t in leg.get_texts()]
+            s += "; curves: " + "; ".join(labels)
+        parts.append(s + ".")
+    return " ".join(parts)

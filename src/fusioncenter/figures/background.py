@@ -122,7 +122,7 @@ def plot_riccati(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax1, ax2) = plotting.subplots(1, 2)
+    fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     ax1.plot(k, data["p_scalar"], label=r"$p_{k}$ (recursion)")
     ax1.axhline(data["p_scalar_inf"], color="0.3", lw=1, ls=":", label=r"$p_\infty$ (closed form)")
@@ -137,7 +137,7 @@ def plot_riccati(data: dict):
         ax2.axhline(data["P_vector_inf"][i, i], color=line.get_color(), lw=1, ls=":")
     ax2.set(xlabel="time step $k$", ylabel="prediction error variance (m$^2$ | m$^2$/s$^2$)",
             title="constant velocity, position measured")
-    ax2.legend(fontsize=7)
+    ax2.legend()
     return plotting.finish(fig)
 
 
@@ -256,7 +256,7 @@ def plot_mc(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(stack=True)
     k = data["k"]
     for i, name in enumerate(["position (m$^2$)", "velocity (m$^2$/s$^2$)"]):
         line = plotting.errorband(ax, k, data["mse"][:, i], data["stderr"][:, i],
@@ -267,7 +267,7 @@ def plot_mc(data: dict):
     ax.set(xlabel="time step $k$",
            ylabel="mean squared error (m$^2$ | m$^2$/s$^2$)",
            title=f"{data['n_trials']} trials")
-    ax.legend(fontsize=7)
+    ax.legend()
     return plotting.finish(fig)
 
 

@@ -285,7 +285,7 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
 
 
 def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
-    fig, (ax, ax2) = plotting.subplots(1, 2)
+    fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     for i, sv in enumerate(data["sigma_v"]):
         col = plotting.OKABE_ITO[i]
@@ -304,7 +304,7 @@ def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
     ax.set(xlabel="time step $k$", ylabel=r"$E[p_k]$ and its bounds (units of $x^2$)",
            title=f"{law}, $\\lambda$ = {SCALAR['lam']:g}, $E[p_0]$ = {data['p0']:g}; "
            f"{data['n_paths']} paths")
-    ax.legend(fontsize=7, ncol=2, loc="lower right")
+    ax.legend(ncol=2, loc="lower right")
     for j, (sv, p0) in enumerate(zip(data["grid_sigma_v"], data["grid_p0"], strict=True)):
         col = plotting.OKABE_ITO[j % len(plotting.OKABE_ITO)]
         s = data["grid_s"][j][1:]  # from k = 1: s_0 = E[p_0] may be 0
@@ -319,7 +319,7 @@ def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
     ax2.set(xlabel="time step $k$",
             ylabel=r"$E[p_k]/s_k$ (solid), $q_k/s_k$ (dotted) (dimensionless)",
             title=f"alternative parameters (clipped at 5); {data['n_grid_paths']} paths each")
-    ax2.legend(fontsize=6, loc="upper right", ncol=2)
+    ax2.legend(loc="upper right", ncol=2)
     return plotting.finish(fig)
 
 
@@ -418,7 +418,7 @@ register(Entry(
     kind="figure",
     caption="Rayleigh fading, one sensor: the Monte Carlo average error covariance E[p_k] "
     "(50 000 paths of length 100) against the tight bound s_k (17) and the loose bound q_k (18), "
-    "for several sigma_v; right: the same ordering on a grid of alternative parameters.",
+    "for several sigma_v; below: the same ordering on a grid of alternative parameters.",
     chapter=CH_SCALAR,
     label="sec-dey2009-fig1",
     parameters=_SCALAR_PARAMS,
@@ -437,7 +437,7 @@ register(Entry(
     paper="dey2009",
     kind="figure",
     caption="Nakagami(1/2) fading, one sensor: E[p_k] by Monte Carlo against the bounds (19) "
-    "and (20), with Fig. 1's Rayleigh averages for comparison; right: alternative parameters.",
+    "and (20), with Fig. 1's Rayleigh averages for comparison; below: alternative parameters.",
     chapter=CH_SCALAR,
     label="sec-dey2009-fig2",
     parameters={**_SCALAR_PARAMS, "m": 0.5,
@@ -557,7 +557,7 @@ def plot_multi(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plotting.subplots(2, 2)
+    fig, axes = plotting.subplots(2, 2, stack=True)
     k = data["k"]
     for i, (ax, (l1, l2)) in enumerate(zip(axes.flat, data["lams"], strict=False)):
         plotting.errorband(ax, k, data["mean"][i], data["stderr"][i], color=plotting.OKABE_ITO[0],
@@ -568,7 +568,7 @@ def plot_multi(data: dict):
         ax.plot(k, data["t"][i], color=plotting.OKABE_ITO[2], ls="-.", label=r"$t_k$ (AM-HM)")
         ax.set(xlabel="time step $k$", ylabel=r"$E[p_k]$ and bounds (units of $x^2$)",
                title=rf"$\lambda_1 = {l1:g}$, $\lambda_2 = {l2:g}$")
-        ax.legend(fontsize=7)
+        ax.legend()
     ax = axes.flat[-1]
     gm = data["grid_mean"][:, -1]
     xs, ys = data["grid_s_limit"] / gm, data["grid_t_limit"] / gm
@@ -587,7 +587,7 @@ def plot_multi(data: dict):
            title=f"{len(xs)} alternative settings ({data['n_grid_paths']} paths each)")
     _plain_log_ticks(ax.xaxis)
     _plain_log_ticks(ax.yaxis)
-    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5))
     scheme = "multi-access" if data["access"] == "multi-access" else "orthogonal"
     return plotting.finish(fig, title=f"Two sensors, {scheme} scheme; {data['n_paths']} paths")
 
@@ -765,7 +765,7 @@ def plot_ordering(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax, ax2) = plotting.subplots(1, 2)
+    fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     c = plotting.OKABE_ITO
     plotting.errorband(ax, k, data["ma_mean"], data["ma_stderr"], color=c[0], ls="-",
@@ -780,7 +780,7 @@ def plot_ordering(data: dict):
     ax.set(xlabel="time step $k$", ylabel=r"$E[p_k]$ and bounds (units of $x^2$)",
            title=rf"$\lambda_1 = {data['lam1']:g}$, $\lambda_2 = {data['main_lam2']:g}$; "
            f"{data['n_paths']} paths", yscale="log")
-    ax.legend(fontsize=6)
+    ax.legend()
     x = data["lam2"]
     ax2.errorbar(x, data["sweep_ma_mean"][:, -1], yerr=1.96 * data["sweep_ma_stderr"][:, -1],
                  color=c[0], marker=plotting.MARKERS[0], mfc="none", capsize=2,
@@ -795,7 +795,7 @@ def plot_ordering(data: dict):
     ax2.set(xscale="log", yscale="log", xlabel=r"$\lambda_2$ (1 / mean power gain of sensor 2)",
             ylabel=r"steady state, $k = 100$ (units of $x^2$)",
             title=rf"$\lambda_1 = {data['lam1']:g}$; {data['n_grid_paths']} paths each")
-    ax2.legend(fontsize=6)
+    ax2.legend()
     return plotting.finish(fig)
 
 
@@ -945,7 +945,7 @@ def plot_vector(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax, ax2) = plotting.subplots(1, 2)
+    fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     names = [(0, (0, 0), "$[E P_k]_{11}$", r"$\bar Z_{k,11}$"),
              (1, (0, 1), "$[E P_k]_{12}$", r"$\bar Z_{k,12}$"),
@@ -958,7 +958,7 @@ def plot_vector(data: dict):
     ax.set(xlabel="time step $k$", ylabel="error covariance entries (units of $x^2$)",
            yscale="log", title=f"2-state example, Rayleigh $\\lambda$ = {VECTOR['lam']:g}; "
            f"{data['n_paths']} paths")
-    ax.legend(fontsize=6, ncol=2)
+    ax.legend(ncol=2)
     ratio = data["mean_vPv"][-1] / data["Z_vPv"][-1]
     se = data["stderr_vPv"][-1] / data["Z_vPv"][-1]
     plotting.errorband(ax2, data["theta"], ratio, se, color=plotting.OKABE_ITO[0], ls="-",
@@ -966,7 +966,7 @@ def plot_vector(data: dict):
     ax2.axhline(1.0, color="0.2", lw=0.8, label="bound")
     ax2.set(xlabel=r"direction $v = (\cos\theta, \sin\theta)$: angle $\theta$ (rad)",
             ylabel="ratio of quadratic forms (dimensionless)", title="PSD order, steady state")
-    ax2.legend(fontsize=7)
+    ax2.legend()
     return plotting.finish(fig)
 
 
@@ -1011,7 +1011,7 @@ register(Entry(
     paper="dey2009",
     kind="figure",
     caption="Vector state, scalar measurement (Section 3.2): the entries of E[P_k] by Monte "
-    "Carlo against the bounding sequence Zbar_k for a 2-state example; right: the PSD order at "
+    "Carlo against the bounding sequence Zbar_k for a 2-state example; below: the PSD order at "
     "steady state, direction by direction.",
     chapter=CH_VECTOR,
     label="sec-dey2009-vector",
@@ -1110,7 +1110,7 @@ def plot_distribution(data: dict):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plotting.subplots(1, 3)
+    fig, axes = plotting.subplots(1, 3, stack=True)
     k = data["k"]
     lv = data["levels"]
     names = {"rayleigh": "Rayleigh", "nakagami": "Nakagami(1/2)"}
@@ -1134,15 +1134,15 @@ def plot_distribution(data: dict):
                  label="sure lower envelope (perfect channel)")
     axes[0].set(xlabel="time step $k$", ylabel="$p_k$ (units of $x^2$)", yscale="log",
                 title=f"quantiles over time; {data['n_paths']} paths")
-    axes[0].legend(fontsize=6)
+    axes[0].legend()
     axes[1].set(xscale="log", xlabel=r"$p_{100}$ (units of $x^2$)",
                 ylabel=r"density of $\ln p_{100}$ (dimensionless)",
                 title="steady state (dashed: mean, dotted: bound $s^*$)")
-    axes[1].legend(fontsize=7)
+    axes[1].legend()
     axes[2].set(xscale="log", yscale="log", xlabel=r"$x$ (units of $x^2$)",
                 ylabel=r"$P(p_{100} > x)$ (dimensionless)", title="upper tail")
     _plain_log_ticks(axes[2].xaxis)
-    axes[2].legend(fontsize=7)
+    axes[2].legend()
     return plotting.finish(fig, title=rf"Distribution of $p_k$: $\sigma_v = {DIST['sigma_v']:g}$,"
                            rf" $\lambda = {SCALAR['lam']:g}$, $E[p_0] = {data['p0']:g}$")
 

@@ -108,17 +108,20 @@ def compute_fig1(profile: str, seed: int) -> dict:
 
 
 def plot_fig1(data: dict):
-    fig, (ax1, ax2) = plotting.subplots(1, 2)
+    fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
     M = data["M"]
-    ax1.plot(M, data["P_inf"], label=r"$P_\infty$ (8)")
-    ax1.plot(M, data["asymptotic"], label=r"$\sigma_w^2 + K/M$ (13)")
-    ax1.axhline(data["sigma_w2"], color="0.3", lw=0.8, ls=":", label=r"$\sigma_w^2$")
+    ax1.plot(M, data["P_inf"], label=r"$P_\infty$ (8)", **plotting.look(quantity="p-inf"))
+    ax1.plot(M, data["asymptotic"], label=r"$\sigma_w^2 + K/M$ (13)",
+             **plotting.look(quantity="upper-bound"))
+    ax1.axhline(data["sigma_w2"], label=r"$\sigma_w^2$", **plotting.look(quantity="limit"))
     ax1.set(xlabel="number of sensors $M$",
             ylabel=r"steady-state error variance $P_\infty$ (state units$^2$)",
             title="(a) $P_\\infty$ and its asymptotic expression")
     ax1.legend()
-    ax2.loglog(M, data["P_inf"] - data["sigma_w2"], label=r"$P_\infty - \sigma_w^2$")
-    ax2.loglog(M, data["K"] / M, label=f"$K/M$, $K$ = {data['K']:.4f}")
+    ax2.loglog(M, data["P_inf"] - data["sigma_w2"], label=r"$P_\infty - \sigma_w^2$",
+               **plotting.look(quantity="p-inf"))
+    ax2.loglog(M, data["K"] / M, label=f"$K/M$, $K$ = {data['K']:.4f}",
+               **plotting.look(quantity="upper-bound"))
     ax2.set(xlabel="number of sensors $M$",
             ylabel=r"$P_\infty - \sigma_w^2$ (state units$^2$)", title="(b) the 1/M law")
     ax2.legend()
@@ -175,20 +178,32 @@ def compute_fig2(profile: str, seed: int) -> dict:
 
 
 def plot_fig2(data: dict):
-    fig, ax = plotting.subplots()
+    fig, (ax, ax2) = plotting.subplots(2, 1, stack=True)
     M = data["M"]
-    ax.plot(M, data["P_inf"], label=r"$P_\infty$, one draw of the sensor parameters")
-    ax.plot(M, data["upper"], label="upper bound (37)")
-    ax.plot(M, data["lower"], label="lower bound (37)")
-    ax.plot(M, data["exact_upper"], lw=0.8, color="0.4", ls=":",
-            label=r"exact bounds: $P_\infty$ at the extreme SNRs")
-    ax.plot(M, data["exact_lower"], lw=0.8, color="0.4", ls=":")
-    ax.axhline(data["sigma_w2"], color="0.3", lw=0.8, ls="-.", label=r"$\sigma_w^2$")
+    curves = [("upper", "upper bound (37)", "upper-bound"),
+              ("exact_upper", r"exact upper bound: $P_\infty$ at the lowest SNRs", "exact-upper"),
+              ("exact_lower", r"exact lower bound: $P_\infty$ at the highest SNRs",
+               "exact-lower"),
+              ("lower", "lower bound (37)", "lower-bound")]
+    for key, label, q in curves:
+        ax.plot(M, data[key], label=label, **plotting.look(quantity=q))
+    ax.plot(M, data["P_inf"], label=r"$P_\infty$, one draw of the sensor parameters",
+            zorder=3, **plotting.look(quantity="p-inf"))
+    ax.axhline(data["sigma_w2"], label=r"$\sigma_w^2$", **plotting.look(quantity="limit"))
     ax.set_ylim(data["sigma_w2"] * 0.95, float(np.max(data["upper"][M >= 5])) * 1.02)
     ax.set(xlabel="number of sensors $M$",
            ylabel=r"steady-state error variance $P_\infty$ (state units$^2$)",
-           title=r"multi-access, $\alpha_i = 1/\sqrt{M}$, general parameters")
-    ax.legend(fontsize=8)
+           title=r"(a) multi-access, $\alpha_i = 1/\sqrt{M}$, general parameters")
+    ax.legend(ncol=2)
+    # (b) the distances to P_inf, which (a) cannot show apart for large M
+    for key, label, q in curves:
+        gap = np.abs(data[key] - data["P_inf"])
+        ok = gap > 0
+        ax2.loglog(M[ok], gap[ok], label=label, **plotting.look(quantity=q))
+    ax2.set(xlabel="number of sensors $M$",
+            ylabel=r"$|$bound $- P_\infty|$ (state units$^2$)",
+            title=r"(b) distance of each bound to $P_\infty$ (log scales)")
+    ax2.legend(ncol=2)
     return plotting.finish(fig)
 
 
@@ -389,15 +404,17 @@ _STATIC_Y = {"a": ("total transmit power $\\sum_i \\gamma_i$ (power units)", Tru
 
 
 def plot_static(data: dict):
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(stack=True)
     M = data["M"]
-    for j, (key, name) in enumerate([("optimal", "optimal allocation"),
-                                     ("equal", "equal power")]):
-        ax.errorbar(M, data[key], yerr=1.96 * data[f"{key}_stderr"], marker=plotting.MARKERS[j],
-                    mfc="none", capsize=2, label=f"{name} (mean ± 1.96 s.e.)")
     ylabel, logy = _STATIC_Y[data["panel"]]
-    if logy:
-        ax.set_yscale("log")
+    for key, name in [("optimal", "optimal allocation"), ("equal", "equal power")]:
+        kw = {"mfc": "none", "capsize": 2, "label": f"{name} (mean ± 1.96 s.e.)",
+              **plotting.look(key)}
+        if logy:  # a bar reaching zero is clipped at the axis, with a note
+            plotting.errorbar_log(ax, M, data[key], 1.96 * data[f"{key}_stderr"], xname="M",
+                                  **kw)
+        else:
+            ax.errorbar(M, data[key], yerr=1.96 * data[f"{key}_stderr"], **kw)
     cons = ("$D = 2$" if data["panel"] == "a" else r"$\gamma_{\mathrm{total}} = 10^{-3}$")
     ax.set_xticks(M)
     ax.set(xlabel="number of sensors $M$", ylabel=ylabel,
@@ -615,16 +632,20 @@ def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) 
 
 
 def plot_fading(data: dict):
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(stack=True)
     M = data["M"]
     names = (["full CSI, greedy per step (time average)", "no CSI, linear MMSE (32) "
               "(steady state)"] if data["panel"] == "b" else
              ["full CSI, greedy per step (time average)", "no CSI, linear MMSE (32)"])
-    for j, (key, name) in enumerate(zip(("csi", "nocsi"), names, strict=True)):
-        ax.errorbar(M, data[key], yerr=1.96 * data[f"{key}_stderr"], marker=plotting.MARKERS[j],
-                    mfc="none", capsize=2, label=f"{name} (mean ± 1.96 s.e.)")
+    for key, scheme, name in zip(("csi", "nocsi"), ("full-csi", "no-csi"), names, strict=True):
+        kw = {"mfc": "none", "capsize": 2, "label": f"{name} (mean ± 1.96 s.e.)",
+              **plotting.look(scheme)}
+        if data["panel"] == "a":  # a bar reaching zero is clipped at the axis, with a note
+            plotting.errorbar_log(ax, M, data[key], 1.96 * data[f"{key}_stderr"], xname="M",
+                                  **kw)
+        else:
+            ax.errorbar(M, data[key], yerr=1.96 * data[f"{key}_stderr"], **kw)
     if data["panel"] == "a":
-        ax.set_yscale("log")
         ylabel = "total transmit power $\\sum_i \\gamma_i$ (power units)"
         cons = "$D = 2$"
     else:

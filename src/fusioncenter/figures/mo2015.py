@@ -279,7 +279,7 @@ def compute_rate(profile: str, seed: int) -> dict:
 
 
 def plot_rate(data: dict):
-    fig, axes = plotting.subplots(1, 2, sharey=True)
+    fig, axes = plotting.subplots(1, 2, sharey=True, stack=True)
     titles = [r"prior mean $\bar x = 0$ (the notes)",
               r"prior mean $\bar x = (1, -1)$ (extension)"]
     keys = ["rate_zero_mean", "rate_xbar"]
@@ -302,7 +302,7 @@ def plot_rate(data: dict):
                     label=f"Monte Carlo ± 1.96 s.e. ({data['n_trials']} trials)")
         ax.set(xlabel=r"trigger parameter $\delta$ (units of $y^2$)",
                ylabel=r"communication rate $P(\gamma_i = 1)$", title=titles[j])
-        ax.legend(fontsize=7)
+        ax.legend()
     return plotting.finish(fig)
 
 
@@ -426,23 +426,22 @@ def compute_tradeoff(profile: str, seed: int) -> dict:
 
 
 def plot_tradeoff(data: dict):
-    fig, ax = plotting.subplots()
-    for j, (key, name) in enumerate([("stochastic", "stochastic trigger (MMSE)"),
-                                     ("random", "random selection, same rate")]):
-        line = ax.plot(data["rate_fine"], data[f"mse_exact_{key}_fine"],
-                       label=f"{name}: exact")[0]
+    fig, ax = plotting.subplots(stack=True)
+    for key, scheme, name in [("stochastic", "trigger", "stochastic trigger (MMSE)"),
+                              ("random", "random", "random selection, same rate")]:
+        ax.plot(data["rate_fine"], data[f"mse_exact_{key}_fine"], label=f"{name}: exact",
+                **plotting.look(scheme, marker="None"))
         ax.errorbar(data[f"rate_{key}"], data[f"mse_{key}"],
-                    yerr=1.96 * data[f"mse_{key}_stderr"], ls="none",
-                    marker=plotting.MARKERS[j], mfc="none", color=line.get_color(), capsize=2,
-                    label=f"{name}: Monte Carlo ± 1.96 s.e.")
-    ax.axhline(data["trace_all_send"], color="0.2", lw=1, ls="--",
-               label=r"all-send: $\mathrm{tr}\,P$ (rate 1)")
+                    yerr=1.96 * data[f"mse_{key}_stderr"], mfc="none", capsize=2,
+                    label=f"{name}: Monte Carlo ± 1.96 s.e.", **plotting.look(scheme, ls="none"))
+    ax.axhline(data["trace_all_send"], lw=1, label=r"all-send: $\mathrm{tr}\,P$ (rate 1)",
+               **plotting.look("all-send", marker="None", ls="--"))
     ax.axhline(data["trace_prior"], color="0.5", lw=1, ls=":",
                label=r"nobody sends: $\mathrm{tr}\,\Sigma$ (rate 0)")
     ax.set(xlabel=r"communication rate per sensor $P(\gamma_i = 1)$",
            ylabel=r"mean squared error $\mathbb{E}\,\|x - \hat x\|^2$ (units of $x^2$)",
            title=f"2 states, 3 sensors; {data['n_trials']} trials", xlim=(0, 1))
-    ax.legend(fontsize=7)
+    ax.legend()
     return plotting.finish(fig)
 
 
@@ -583,30 +582,30 @@ def _rmse(mse, se):
 
 
 def plot_tracking(data: dict):
-    fig, axes = plotting.subplots(1, 2)
+    fig, axes = plotting.subplots(1, 2, stack=True)
     m = data["m"]
     names = ["position", "velocity"]
     units = ["m", "m/s"]
     for c, ax in enumerate(axes):
-        for j, (key, name) in enumerate([("stochastic", "stochastic trigger"),
-                                         ("random", "random selection")]):
+        for key, scheme, name in [("stochastic", "trigger", "stochastic trigger"),
+                                  ("random", "random", "random selection")]:
             rm, se = _rmse(data[f"{key}_mse"][:, c], data[f"{key}_mse_stderr"][:, c])
-            ax.errorbar(m * data[f"{key}_rate"], rm, yerr=1.96 * se, marker=plotting.MARKERS[j],
-                        mfc="none", capsize=2, label=f"{name}: Monte Carlo ± 1.96 s.e.")
+            ax.errorbar(m * data[f"{key}_rate"], rm, yerr=1.96 * se, mfc="none", capsize=2,
+                        label=f"{name}: Monte Carlo ± 1.96 s.e.", **plotting.look(scheme))
             if key == "stochastic":
-                ax.plot(m * data[f"{key}_rate"], np.sqrt(data[f"{key}_p_avg"][:, c]), ls="none",
-                        marker="x", markersize=7, color="0.1",
-                        label=r"stochastic trigger: filter's own $\sqrt{\text{mean } P_{k|k}}$")
+                ax.plot(m * data[f"{key}_rate"], np.sqrt(data[f"{key}_p_avg"][:, c]),
+                        label=r"stochastic trigger: filter's own $\sqrt{\text{mean } P_{k|k}}$",
+                        **plotting.look("trigger", marker="None", ls=":", lw=2.2))
         rm, se = _rmse(data["all_send_mse"][c], data["all_send_mse_stderr"][c])
-        ax.errorbar([m * data["all_send_rate"]], [rm], yerr=[1.96 * se], marker="D",
-                    color="0.2", ls="none", capsize=2, label="all-send")
-        ax.axhline(rm, color="0.2", lw=0.8, ls=":")
+        ax.errorbar([m * data["all_send_rate"]], [rm], yerr=[1.96 * se], capsize=2,
+                    label="all-send", **plotting.look("all-send", ls="none", markersize=8))
+        ax.axhline(rm, lw=0.8, **plotting.look("all-send", marker="None", ls=":"))
         if c == 0:
             ax.set_yscale("log")  # random selection at low rates loses track for long stretches
         ax.set(xlabel="average transmissions per step (of 2 sensors)",
                ylabel=f"{names[c]} RMSE, 20-step average ({units[c]})",
                title=f"{names[c]}; {data['n_trials']} trials")
-        ax.legend(fontsize=7)
+        ax.legend()
     return plotting.finish(fig)
 
 

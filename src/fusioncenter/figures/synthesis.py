@@ -164,36 +164,35 @@ def compute_frontier(profile: str, seed: int) -> dict:
 
 
 def plot_frontier(data: dict):
-    fig, axes = plotting.subplots(1, 2)
+    fig, axes = plotting.subplots(1, 2, stack=True)
     for c, ax in enumerate(axes):
-        for j, (key, name) in enumerate([("trigger_grid", "stochastic trigger + exact KF (mo2015)"),
-                                         ("random_grid", "random selection + exact KF")]):
+        for key, scheme, name in [("trigger_grid", "trigger",
+                                   "stochastic trigger + exact KF (mo2015)"),
+                                  ("random_grid", "random", "random selection + exact KF")]:
             ax.errorbar(data[f"{key}_rate"], data[f"{key}_pos"],
                         xerr=1.96 * data[f"{key}_rate_se"], yerr=1.96 * data[f"{key}_pos_se"],
-                        color=plotting.OKABE_ITO[j], ls=["-", "--"][j], marker=plotting.MARKERS[j],
-                        mfc="none", capsize=2, label=name)
-        for j, (key, name) in enumerate([("cfwmd", "NIS censoring + CFwMD PF (zheng2014)"),
-                                         ("cfomd", "NIS censoring + CFoMD PF")], start=2):
+                        mfc="none", capsize=2, label=name, **plotting.look(scheme))
+        for key, name in [("cfwmd", "NIS censoring + CFwMD PF (zheng2014)"),
+                          ("cfomd", "NIS censoring + CFoMD PF")]:
             ax.errorbar(data[f"{key}_rate"], data[f"{key}_pos"],
                         xerr=1.96 * data[f"{key}_rate_se"], yerr=1.96 * data[f"{key}_pos_se"],
-                        color=plotting.OKABE_ITO[j], ls=":", marker=plotting.MARKERS[j],
-                        capsize=2, label=name)
-        ax.plot(data["trigger_at_cfwmd_rate"], data["trigger_at_cfwmd_pos"], ls="none",
-                marker="x", color=plotting.OKABE_ITO[0], markersize=7,
-                label="trigger calibrated to CFwMD's measured rate")
-        for key, mk, name in [("allsend", "D", "all-send, exact KF"),
-                              ("allsend_pf", "*", "all-send, particle filter")]:
+                        capsize=2, label=name, **plotting.look(key, ls=":"))
+        ax.plot(data["trigger_at_cfwmd_rate"], data["trigger_at_cfwmd_pos"],
+                label="trigger at the rate the censoring PF measured",
+                **plotting.look("trigger", ls="none", markersize=10, mfc="none"))
+        for key, name, fill in [("allsend", "all-send, exact KF", None),
+                                ("allsend_pf", "all-send, particle filter", "none")]:
             ax.errorbar(data[f"{key}_rate"], data[f"{key}_pos"],
-                        yerr=1.96 * data[f"{key}_pos_se"], ls="none", marker=mk,
-                        color="0.2" if key == "allsend" else plotting.OKABE_ITO[4], capsize=2,
-                        label=name)
+                        yerr=1.96 * data[f"{key}_pos_se"], capsize=2, label=name,
+                        **plotting.look("all-send", ls="none", markersize=8,
+                                        **({"mfc": fill} if fill else {})))
         ax.set(xlabel="measured transmissions per step (of 2 sensors)",
                ylabel="position RMSE, 20-step average (m)")
         if c == 0:
             ax.set_yscale("log")
             ax.set_title(f"{data['n_trials']} paired trials, {data['n_particles']} particles; "
                          "bars: 1.96 s.e.")
-            ax.legend(fontsize=6)
+            ax.legend()
         else:
             lo = min(data["allsend_pos"][0], data["allsend_pf_pos"][0])
             hi = max(np.max(data["cfomd_pos"]), np.max(data["trigger_at_cfomd_pos"]))
@@ -328,40 +327,40 @@ def compute_cost(profile: str, seed: int) -> dict:
 
 
 def plot_cost(data: dict):
-    fig, axes = plotting.subplots(1, 3)
+    fig, axes = plotting.subplots(1, 3, stack=True)
     ax = axes[0]
     fine = data["particles_fine"]
-    for j, s in enumerate(("cfwmd", "cfomd", "all-send")):
-        ax.loglog(fine, data[f"pf_flops_{s}"], label=f"particle filter, {s}",
-                  color=plotting.OKABE_ITO[j + 2])
+    for s, name in (("cfwmd", "CFwMD"), ("cfomd", "CFoMD"), ("all-send", "all-send")):
+        ax.loglog(fine, data[f"pf_flops_{s}"], label=f"particle filter, {name}",
+                  **plotting.look(s, marker="None"))
     ax.axhline(data["kf_flops"], color=plotting.OKABE_ITO[0], label="Kalman filter (any scheme)")
     ax.set(xlabel="particles $N_s$", ylabel="operations per step and trial (flops)",
            title="operation count (model)")
-    ax.legend(fontsize=7)
+    ax.legend()
     ax = axes[1]
     p = data["particles"]
-    ax.loglog(p, 1e6 * data["pf_time_cfwmd"], marker="o", label="particle filter, CFwMD",
-              color=plotting.OKABE_ITO[2])
-    ax.loglog(p, 1e6 * data["pf_time_allsend"], marker="s", label="particle filter, all-send",
-              color=plotting.OKABE_ITO[4])
+    ax.loglog(p, 1e6 * data["pf_time_cfwmd"], label="particle filter, CFwMD",
+              **plotting.look("cfwmd"))
+    ax.loglog(p, 1e6 * data["pf_time_allsend"], label="particle filter, all-send",
+              **plotting.look("all-send"))
     ax.axhline(1e6 * data["kf_time"], color=plotting.OKABE_ITO[0], label="Kalman filter")
     ax.set_xticks(p, [str(int(q)) for q in p], minor=False)
     ax.minorticks_off()
     ax.set(xlabel="particles $N_s$", ylabel="wall time per step and trial (µs)",
            title="measured on this machine (varies)")
-    ax.legend(fontsize=7)
+    ax.legend()
     ax = axes[2]
     rel = 100 * data["excess"] / data["kf_rmse"]
     rel_se = 100 * data["excess_se"] / data["kf_rmse"]
-    ax.errorbar(p, rel, yerr=1.96 * rel_se, marker="o", capsize=2,
-                color=plotting.OKABE_ITO[4], label="all-send PF minus exact KF (paired)")
+    ax.errorbar(p, rel, yerr=1.96 * rel_se, capsize=2,
+                label="all-send PF minus exact KF (paired)", **plotting.look("all-send"))
     ax.axhline(0.0, color="0.3", lw=0.8)
     ax.set_xscale("log")
     ax.set_xticks(p, [str(int(q)) for q in p], minor=False)
     ax.minorticks_off()
     ax.set(xlabel="particles $N_s$", ylabel="excess position RMSE (% of the KF's)",
            title=f"what the particles buy ({data['n_trials']} trials)")
-    ax.legend(fontsize=7)
+    ax.legend()
     return plotting.finish(fig)
 
 
@@ -493,14 +492,14 @@ def compute_fading(profile: str, seed: int) -> dict:
     return out
 
 
-_FADING_SERIES = [
-    ("allsend", "all-send, exact KF", 7, "D", "-"),
-    ("random", "random selection, exact KF", 1, "v", "--"),
-    ("trigger_csi", "trigger, KF, receiver knows the channel", 0, "o", "-"),
-    ("trigger_naive", "trigger, KF, missing = silent (naive)", 0, "o", ":"),
-    ("cfomd", "CFoMD particle filter", 3, "^", "-."),
-    ("cfwmd_csi", "CFwMD, receiver knows the channel", 2, "s", "-"),
-    ("cfwmd_naive", "CFwMD, missing = silent (naive)", 2, "s", ":"),
+_FADING_SERIES = [  # key, label, scheme (its look), line style (naive: dotted, hollow)
+    ("allsend", "all-send, exact KF", "all-send", "-"),
+    ("random", "random selection, exact KF", "random", "--"),
+    ("trigger_csi", "trigger, KF, receiver knows the channel", "trigger", "-"),
+    ("trigger_naive", "trigger, KF, missing = silent (naive)", "trigger", ":"),
+    ("cfomd", "CFoMD particle filter", "cfomd", "-."),
+    ("cfwmd_csi", "CFwMD, receiver knows the channel", "cfwmd", "-"),
+    ("cfwmd_naive", "CFwMD, missing = silent (naive)", "cfwmd", ":"),
 ]
 
 
@@ -509,13 +508,13 @@ _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 
 def plot_fading(data: dict):
-    fig, axes = plotting.subplots(2, 2)
+    fig, axes = plotting.subplots(2, 2, stack=True)
     (a, b), (c, d) = axes
     eps = data["outage"]
-    for key, name, col, mk, ls in _FADING_SERIES:
-        color = "0.2" if col == 7 else plotting.OKABE_ITO[col]
-        style = {"color": color, "marker": mk, "ls": ls, "capsize": 2,
-                 "mfc": "none" if "naive" in key else color}
+    for key, name, scheme, ls in _FADING_SERIES:
+        style = {**plotting.look(scheme, ls=ls), "capsize": 2}
+        if "naive" in key:
+            style["mfc"] = "none"
         a.errorbar(eps, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], label=name,
                    **style)
         if key != "allsend":
@@ -528,7 +527,7 @@ def plot_fading(data: dict):
     a.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel="position RMSE, 20-step average (m)",
           title=f"budget l = {data['l']:g}; {data['n_trials']} paired trials")
-    a.legend(fontsize=6)
+    a.legend()
     b.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel="transmissions per step (packets sent)",
           title="what each scheme spends (all-send: 2)")
@@ -536,20 +535,19 @@ def plot_fading(data: dict):
     c.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel=r"mean $\|x - \hat x\|^2$ / mean tr $P$ (-)",
           title="does the Kalman filter know its own error?")
-    c.legend(fontsize=7)
+    c.legend()
     e1 = data["energy_outage_full"]
-    for key, name, col, mk in [("energy_allsend", "all-send at $\\varepsilon_1$", 7, "D"),
-                               ("energy_random", "random selection, same energy", 1, "v"),
-                               ("energy_trigger", "trigger (knows channel), same energy", 0,
-                                "o")]:
-        d.errorbar(e1, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"],
-                   color="0.2" if col == 7 else plotting.OKABE_ITO[col], marker=mk,
-                   capsize=2, label=name)
+    for key, name, scheme in [("energy_allsend", "all-send at $\\varepsilon_1$", "all-send"),
+                              ("energy_random", "random selection, same energy", "random"),
+                              ("energy_trigger", "trigger (knows channel), same energy",
+                               "trigger")]:
+        d.errorbar(e1, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], capsize=2,
+                   label=name, **plotting.look(scheme))
     d.set_yscale("log")
     d.set(xlabel=r"outage $\varepsilon_1$ of one packet per sensor and step",
           ylabel="position RMSE, 20-step average (m)",
           title="energy, not packets, as the budget")
-    d.legend(fontsize=7)
+    d.legend()
     return plotting.finish(fig)
 
 

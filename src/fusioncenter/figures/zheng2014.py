@@ -246,23 +246,23 @@ def compute_fig1(profile: str, seed: int, **over) -> dict:
     return _schemes_data(_fig1_runs(seed, n, P, N, l), N, l)
 
 
-def _rmse_panels(data: dict, names, labels, styles=None):
-    fig, axes = plotting.subplots(1, 2)
+def _rmse_panels(data: dict, names, labels):
+    fig, axes = plotting.subplots(1, 2, stack=True)
     t = data["time"]
-    for i, name in enumerate(names):
-        kw = {"marker": plotting.MARKERS[i % len(plotting.MARKERS)], "markersize": 3.5}
-        if styles:
-            kw.update(styles.get(name, {}))
-        plotting.errorband(axes[0], t, data["rmse_position"][i],
-                           data["rmse_position_stderr"][i], label=labels[name], **kw)
-        plotting.errorband(axes[1], t, data["rmse_velocity"][i],
-                           data["rmse_velocity_stderr"][i], label=labels[name], **kw)
+    for name in names:
+        kw = plotting.look(name, markersize=4)
+        plotting.errorband(axes[0], t, data["rmse_position"][names.index(name)],
+                           data["rmse_position_stderr"][names.index(name)], label=labels[name],
+                           **kw)
+        plotting.errorband(axes[1], t, data["rmse_velocity"][names.index(name)],
+                           data["rmse_velocity_stderr"][names.index(name)], label=labels[name],
+                           **kw)
     axes[0].set(xlabel="time (s)", ylabel="position RMSE (m)", title="(a) position")
     axes[1].set(xlabel="time (s)", ylabel="velocity RMSE (m/s)", title="(b) velocity")
     for ax in axes:
         _log_y(ax)
         ax.set_xticks([1, 5, 10, 15, 20])
-    axes[0].legend(fontsize=8)
+    axes[0].legend(ncol=2)
     return fig
 
 
@@ -384,28 +384,32 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
 
 
 def _by_l_panels(data: dict, *, l_ticks: bool = False):
-    """(a) position RMSE of CFwMD and CFwMD2 against time for every ``l``; (b) their time
-    averages against ``l`` (ticks at the ``l`` values if ``l_ticks``)."""
-    fig, (ax1, ax2) = plotting.subplots(1, 2)
+    """(a) position RMSE of CFwMD and of CFwMD2 against time, one curve per ``l`` (one panel
+    per scheme); (b) their time averages against ``l`` (ticks at the ``l`` values if
+    ``l_ticks``)."""
+    fig, (ax1, ax1b, ax2) = plotting.subplots(3, 1, stack=True)
     t = data["time"]
-    for i, l in enumerate(data["l"]):
-        col = plotting.OKABE_ITO[i % len(plotting.OKABE_ITO)]
-        ax1.plot(t, data["rmse_position"][0, i], color=col, ls="-", label=f"l = {l:g}")
-        ax1.plot(t, data["rmse_position"][1, i], color=col, ls="--")
-    ax1.plot([], [], color="0.3", ls="-", label="CFwMD (solid)")
-    ax1.plot([], [], color="0.3", ls="--", label="CFwMD2 (dashed)")
-    ax1.set(xlabel="time (s)", ylabel="position RMSE (m)",
-            title=f"(a) N = {data['N']}, by l")
-    ax1.legend(fontsize=7, ncol=2)
+    for j, (ax, name) in enumerate(((ax1, "cfwmd"), (ax1b, "cfwmd2"))):
+        shades = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.85, len(data["l"])))
+        for i, l in enumerate(data["l"]):  # an ordered parameter: a sequential palette
+            ax.plot(t, data["rmse_position"][j, i], color=shades[i],
+                    ls=plotting.SCHEMES[name]["linestyle"], label=f"l = {l:g}")
+        ax.set(xlabel="time (s)", ylabel="position RMSE (m)",
+               title=f"(a) {LABELS[name]}, N = {data['N']}, by l")
+        ax.legend(ncol=5)
+    lo = min(ax1.get_ylim()[0], ax1b.get_ylim()[0])
+    hi = max(ax1.get_ylim()[1], ax1b.get_ylim()[1])
+    for ax in (ax1, ax1b):
+        ax.set_ylim(lo, hi)
     for j, name in enumerate(("cfwmd", "cfwmd2")):
         ax2.errorbar(data["l"], data["tavg_position"][j],
-                     yerr=1.96 * data["tavg_position_stderr"][j], marker=plotting.MARKERS[j],
-                     capsize=3, label=LABELS[name])
+                     yerr=1.96 * data["tavg_position_stderr"][j], capsize=3,
+                     label=LABELS[name], **plotting.look(name))
     ax2.set(xlabel="target number of transmissions per step l (-)",
             ylabel="time-averaged position RMSE (m)", title="(b) time average, 95 % bars")
     if l_ticks:
         ax2.set_xticks(data["l"])
-    ax2.legend(fontsize=8)
+    ax2.legend(ncol=2)
     return fig
 
 
@@ -497,20 +501,19 @@ def _transmissions_plot(data: dict, labels: dict, table: str, title: str, *,
                         l_ticks: bool = False):
     """Transmissions per step minus ``l`` of CFwMD and CFwMD2 against ``l``, with the paper's
     values (its Table ``table``)."""
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(stack=True)
     l = data["l"]
-    for j, name in enumerate(("cfwmd", "cfwmd2")):
-        col = plotting.OKABE_ITO[j]
-        ax.errorbar(l, data[name] - l, yerr=1.96 * data[f"{name}_stderr"], color=col, ls="-",
-                    marker=plotting.MARKERS[j], capsize=3, label=f"{labels[name]} (ours)")
-        ax.plot(l, data[f"paper_{name}"] - l, color=col, ls="none", marker="x", markersize=7,
-                label=f"{labels[name]} (paper, Table {table})")
+    for name in ("cfwmd", "cfwmd2"):
+        ax.errorbar(l, data[name] - l, yerr=1.96 * data[f"{name}_stderr"], capsize=3,
+                    label=f"{labels[name]} (ours)", **plotting.look(name))
+        ax.plot(l, data[f"paper_{name}"] - l, label=f"{labels[name]} (paper, Table {table})",
+                **plotting.look(name, "paper"))
     ax.axhline(0.0, color="0.4", lw=0.8, ls=":", label="target: l per step")
     if l_ticks:
         ax.set_xticks(l)
     ax.set(xlabel="target number of transmissions per step l (-)",
            ylabel="transmissions per step minus l (-)", title=title)
-    ax.legend(fontsize=8)
+    ax.legend(ncol=2)
     return plotting.finish(fig)
 
 
@@ -651,9 +654,7 @@ def compute_fig3(profile: str, seed: int, **over) -> dict:
 
 
 def plot_fig3(data: dict):
-    styles = {"printed": {"ls": ":", "marker": "x"}, "corrected": {"ls": "-."},
-              "exact": {"ls": "-", "lw": 2.2}}
-    fig = _rmse_panels(data, list(data["curves"]), LABELS, styles)
+    fig = _rmse_panels(data, list(data["curves"]), LABELS)
     n = data["n_trials"]
     return plotting.finish(fig, title=f"no feedback, N = {data['N']}, l = {data['l']:g} "
                                       f"({n[0]} trials; corrected and exact: {n[-1]})")
@@ -746,20 +747,20 @@ def compute_choices(profile: str, seed: int, **over) -> dict:
 
 
 def plot_choices(data: dict):
-    fig, (ax1, ax2) = plotting.subplots(1, 2, sharey=True)
+    fig, (ax1, ax2) = plotting.subplots(1, 2, sharey=True, stack=True)
     l = data["l"]
     for v, name in enumerate(data["variants"]):
         col = plotting.OKABE_ITO[v % len(plotting.OKABE_ITO)]
         for ax, key in ((ax1, "cfwmd"), (ax2, "cfwmd2")):
             ax.errorbar(l, data[key][v] - l, yerr=1.96 * data[f"{key}_stderr"][v], color=col,
-                        marker=plotting.MARKERS[v], capsize=2, label=str(name))
+                        marker=plotting.MARKERS[v + 4], capsize=2, label=str(name))
     for ax, key in ((ax1, "cfwmd"), (ax2, "cfwmd2")):
         ax.axhline(0.0, color="0.4", lw=0.8, ls=":")
         ax.set(xlabel="target number of transmissions per step l (-)",
                title=f"{LABELS[key]} ({data['n_trials']} trials)")
     ax1.set_ylabel("transmissions per step minus l (-)")
     ax2.set_ylabel("transmissions per step minus l (-)")
-    ax1.legend(fontsize=7)
+    ax1.legend(ncol=2)
     return plotting.finish(fig)
 
 

@@ -191,7 +191,7 @@ def compute_fig7(profile: str, seed: int) -> dict:
 
 
 def plot_fig7(data: dict):
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(figsize=(6.4, 7.4), stack=True)  # a square map, full width
     h = data["region_half_width"]
     ax.plot([-h, h, h, -h, -h], [-h, -h, h, h, -h], color="0.4", lw=1.0, ls="-",
             label="region of interest")
@@ -207,7 +207,7 @@ def plot_fig7(data: dict):
     ax.plot(*tr[0], marker="s", color="k", ls="none", label="start ($t = 0$)")
     ax.set(xlabel="x (m)", ylabel="y (m)", aspect="equal",
            title="Sensor grid and target trajectory")
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(ncol=2)
     return plotting.finish(fig)
 
 
@@ -279,7 +279,7 @@ def compute_fig8(profile: str, seed: int, **over) -> dict:
 
 
 def plot_fig8(data: dict):
-    fig, axes = plotting.subplots(1, 2)
+    fig, axes = plotting.subplots(1, 2, stack=True)
     t = data["time"]
     names = {"all-send": "all-send", "random": "random selection", "cfomd": "CFoMD",
              "cfwmd": "CFwMD"}
@@ -287,11 +287,11 @@ def plot_fig8(data: dict):
         for ax, comp in zip(axes, ("position", "velocity"), strict=True):
             plotting.errorband(ax, t, data[f"rmse_{comp}"][j], data[f"rmse_{comp}_stderr"][j],
                                label=f"{names[s]} ({data['transmissions'][j]:.2f} sent/step)",
-                               marker=plotting.MARKERS[j], markevery=2)
+                               markevery=2, **plotting.look(str(s)))
     axes[0].set(xlabel="time (s)", ylabel="position RMSE (m)",
                 title=f"position, l = {data['l']:g} of 9, state feedback")
     axes[1].set(xlabel="time (s)", ylabel="velocity RMSE (m/s)", title="velocity")
-    axes[0].legend(fontsize=8)
+    axes[0].legend(ncol=2)
     return plotting.finish(fig, title=f"{data['trials']} trials, {data['particles']} particles")
 
 
@@ -385,20 +385,20 @@ def compute_fig9(profile: str, seed: int, **over) -> dict:
 
 
 def plot_fig9(data: dict):
-    fig, axes = plotting.subplots(1, 2)
+    fig, axes = plotting.subplots(1, 2, stack=True)
     names = {"random": "random selection", "cfomd": "CFoMD", "cfwmd": "CFwMD"}
     for ax, comp, unit in zip(axes, ("position", "velocity"), ("m", "m/s"), strict=True):
         for j, s in enumerate(data["schemes"]):
             ax.errorbar(data["transmissions"][j], data[f"tavg_{comp}"][j],
                         xerr=1.96 * data["transmissions_stderr"][j],
-                        yerr=1.96 * data[f"tavg_{comp}_stderr"][j], marker=plotting.MARKERS[j],
-                        capsize=2, label=names[s])
+                        yerr=1.96 * data[f"tavg_{comp}_stderr"][j], capsize=2, label=names[s],
+                        **plotting.look(str(s)))
         ax.errorbar([9.0], [data[f"all_send_{comp}"]],
-                    yerr=[1.96 * data[f"all_send_{comp}_stderr"]], marker="*", markersize=10,
-                    color="k", ls="none", capsize=2, label="all-send")
+                    yerr=[1.96 * data[f"all_send_{comp}_stderr"]], capsize=2, label="all-send",
+                    **plotting.look("all-send", ls="none", markersize=9))
         ax.set(xlabel="average transmissions per step (-)",
                ylabel=f"time-averaged {comp} RMSE ({unit})", title=comp)
-    axes[0].legend(fontsize=8)
+    axes[0].legend(ncol=2)
     return plotting.finish(fig, title="l = " + ", ".join(f"{v:g}" for v in data["l"])
                            + f"; {data['trials']} trials, {data['particles']} particles")
 
@@ -513,17 +513,16 @@ def compute_table3(profile: str, seed: int, **over) -> dict:
 
 def plot_fig10(data: dict):
     L = data["l"]
-    fig, axes = plotting.subplots(1, len(L), sharey=True)
+    fig, axes = plotting.subplots(1, len(L), sharey=True, stack=True)
     t = data["time"]
     for ax, j in zip(axes, range(len(L)), strict=True):
-        for k, (name, lab) in enumerate((("cfwmd", "CFwMD (state)"),
-                                         ("cfwmd2", "CFwMD2 (state + covariance)"))):
+        for name, lab in (("cfwmd", "CFwMD (state)"), ("cfwmd2", "CFwMD2 (state + covariance)")):
             plotting.errorband(ax, t, data[f"{name}_rmse_position"][j],
                                data[f"{name}_rmse_position_stderr"][j],
                                label=f"{lab}, {data[f'{name}_transmissions'][j]:.2f} sent/step",
-                               marker=plotting.MARKERS[k], markevery=2)
+                               markevery=2, **plotting.look(name))
         ax.set(xlabel="time (s)", ylabel="position RMSE (m)", title=f"l = {L[j]:g}")
-        ax.legend(fontsize=7)
+        ax.legend()
     return plotting.finish(fig, title=f"{data['trials']} trials, {data['particles']} particles")
 
 
@@ -550,20 +549,20 @@ def checks_fig10(data: dict) -> list[Claim]:
 
 
 def plot_table3(data: dict):
-    fig, ax = plotting.subplots()
+    fig, ax = plotting.subplots(stack=True)
     L = data["l"]
     ax.plot([L.min() - 0.5, L.max() + 0.5], [L.min() - 0.5, L.max() + 0.5], color="0.5", lw=0.8,
             ls=":", label="target $\\bar l = l$")
     for k, (name, lab) in enumerate((("cfwmd", "CFwMD"), ("cfwmd2", "CFwMD2"))):
         ax.errorbar(L + (k - 0.5) * 0.12, data[f"{name}_transmissions"],
-                    yerr=1.96 * data[f"{name}_transmissions_stderr"], marker=plotting.MARKERS[k],
-                    ls="none", capsize=3, label=f"{lab} (ours)")
-        ax.plot(L + (k - 0.5) * 0.12, data[f"printed_{name}"], marker="x", ls="none",
-                color=plotting.OKABE_ITO[k], markersize=9, label=f"{lab} (Table III)")
+                    yerr=1.96 * data[f"{name}_transmissions_stderr"], capsize=3,
+                    label=f"{lab} (ours)", **plotting.look(name, ls="none"))
+        ax.plot(L + (k - 0.5) * 0.12, data[f"printed_{name}"], label=f"{lab} (Table III)",
+                **plotting.look(name, "paper", markersize=9))
     ax.set(xlabel="target transmissions per step $l$ (-)",
            ylabel="average transmissions per step $\\bar l$ (-)",
            title=f"Table III: {data['trials']} trials, {data['particles']} particles")
-    ax.legend(fontsize=8)
+    ax.legend(ncol=2)
     return plotting.finish(fig)
 
 

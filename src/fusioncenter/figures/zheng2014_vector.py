@@ -339,8 +339,7 @@ def compute_fig6(profile: str, seed: int, **over) -> dict:
 
 
 def plot_fig6(data: dict):
-    styles = {"printed": {"ls": ":", "marker": "x"}, "exact": {"ls": "-", "lw": 2.2}}
-    fig = _rmse_panels(data, list(data["curves"]), LABELS, styles)
+    fig = _rmse_panels(data, list(data["curves"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, no feedback, N = {data['N']}, "
                                       f"l = {data['l']:g} ({data['n_trials']} trials, "
                                       f"{data['n_particles']} particles)")
