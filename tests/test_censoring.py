@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from scipy import integrate
 
 from fusioncenter import censoring as cs
-from fusioncenter import montecarlo, particle
+from fusioncenter import particle
 
 GH_X, GH_W = np.polynomial.hermite_e.hermegauss(80)  # weight exp(-x^2/2)
 GH_W = GH_W / np.sqrt(2 * np.pi)
@@ -399,8 +399,8 @@ def test_local_decisions_send_at_the_design_rate():
     sc = cs.LinearScenario(N=2, P0=np.eye(2))
     rng = np.random.default_rng(5)
     x, z = sc.sample(rng, 20000)
-    fc = cs._FusionCentre(sc, "cfwmd", "none", "corrected", cs.threshold(0.7, 2), 0.7, z,
-                          rng.random(z.shape))
+    fc = cs.LinearFusionCentre(sc, "cfwmd", "none", "corrected", cs.threshold(0.7, 2), 0.7, z,
+                               rng.random(z.shape))
     rate = fc.sent.mean(axis=0)  # (T, N)
     se = np.sqrt(0.35 * 0.65 / 20000)
     assert np.max(np.abs(rate - 0.35)) / se < 4.5
@@ -408,15 +408,17 @@ def test_local_decisions_send_at_the_design_rate():
 
 @pytest.mark.parametrize("offset", [0.0, 1e7])
 def test_filter_weights_equal_proposition_1_and_2(offset):
-    """The FC's fast grouped log-weights equal log_likelihood_feedback (with all constants), also
-    far from the origin (the grouped Gaussian term is centred: no cancellation)."""
+    """The FC's fast grouped log-weights equal log_likelihood_feedback up to a constant per
+    trial (which the filter drops), also far from the origin (the grouped Gaussian term is
+    centred: no cancellation)."""
     sc = cs.LinearScenario(N=3, x0=(offset, 10.0))
     rng = np.random.default_rng(6)
     _, z = sc.sample(rng, 5)
     eta = cs.threshold(1.2, 3)
     x = rng.normal([9.0 + offset, 10.0], [2.0, 1.0], (5, 40, 2))
     for feedback in ["state", "state+cov"]:
-        fc = cs._FusionCentre(sc, "cfwmd", feedback, "corrected", eta, 1.2, z, rng.random(z.shape))
+        fc = cs.LinearFusionCentre(sc, "cfwmd", feedback, "corrected", eta, 1.2, z,
+                                   rng.random(z.shape))
         fc.pred_mean = rng.normal([10.0 + offset, 10.0], 1.0, (5, 2))
         fc.pred_cov = np.broadcast_to(np.diag([3.0, 2.0]), (5, 2, 2)).copy()
         got = fc.log_weight(1, x)
@@ -428,7 +430,8 @@ def test_filter_weights_equal_proposition_1_and_2(offset):
                                          eta)
         # at 1e7 the inputs carry an absolute rounding of ~2e-9 (the expanded form
         # n y^2 - 2 y sum z + sum z^2 would lose everything: 1e14 * eps = 1e-2)
-        np.testing.assert_allclose(got, ref, rtol=1e-11, atol=1e-11 + 1e-14 * offset)
+        np.testing.assert_allclose(got - got[:, :1], ref - ref[:, :1], rtol=1e-11,
+                                   atol=1e-11 + 1e-14 * offset)
         assert 0 < sent.sum() < sent.size
 
 
@@ -534,9 +537,9 @@ def test_exact_filters_are_calibrated_and_proposition3_is_not():
     x, z = sc.sample(rng, n)
     eta = cs.threshold(1, 2)
     u = rng.random(z.shape)
-    fb = cs._FusionCentre(sc, "cfwmd", "state", "corrected", eta, 1.0, z, u)
-    nofb = cs._FusionCentre(sc, "cfwmd", "none", "corrected", eta, 1.0, z, u)
-    cfomd = cs._FusionCentre(sc, "cfomd", "none", "corrected", eta, 1.0, z, u)
+    fb = cs.LinearFusionCentre(sc, "cfwmd", "state", "corrected", eta, 1.0, z, u)
+    nofb = cs.LinearFusionCentre(sc, "cfwmd", "none", "corrected", eta, 1.0, z, u)
+    cfomd = cs.LinearFusionCentre(sc, "cfomd", "none", "corrected", eta, 1.0, z, u)
     exact = cs._ExactFusionCentre(sc, eta, z, nofb.sent)
     assert abs(_calibration(fb, x, P, 1)) < 4.5
     assert abs(_calibration(exact, x, P, 2)) < 4.5
@@ -587,17 +590,41 @@ def test_run_is_finite_for_any_configuration(scheme, feedback, likelihood, l, se
     assert np.all((res.transmissions.value >= 0) & (res.transmissions.value <= 2))
 
 
-# ----------------------------------------------------------------------------- the fused engine
-def _engines(sc, scheme, feedback, likelihood="corrected", l=1.0, n=40, P=120, seed=5,
-             ess_threshold=1.0, block_size=16):
-    fn = functools.partial(cs._chunk, scenario=sc, scheme=scheme, feedback=feedback,
-                           likelihood=likelihood, eta=cs.threshold(l, sc.N), l=l,
-                           n_particles=P, ess_threshold=ess_threshold)
-    a = montecarlo.simulate(functools.partial(fn, engine="fused"), n, seed,
-                            block_size=block_size).samples
-    b = montecarlo.simulate(functools.partial(fn, engine="reference"), n, seed,
-                            block_size=block_size).samples
-    return a, b
+# ----------------------------------------------------------------------------- the one loop
+def _numpy_filter(model, rng, n, P, T, ess_threshold=1.0):
+    """particle.run_filter written with the NumPy functions of particle (log_normalize,
+    weighted_mean_cov, systematic_resample, resample): the loop the compiled kernels replace.
+    Same draws in the same order."""
+    x = np.array(model.initial(rng, n, P))
+    logw = np.full((n, P), -np.log(P))
+    means, esss = np.empty((n, T, model.dim)), np.empty((n, T))
+    for t in range(1, T + 1):
+        x = np.array(model.transition(rng, t, x))
+        u = rng.random(n)
+        lw, _ = particle.log_normalize(logw + model.log_weight(t, x))
+        mean, cov = particle.weighted_mean_cov(x, lw)
+        means[:, t - 1], esss[:, t - 1] = mean, particle.ess(lw)
+        model.observe(t, mean, cov if getattr(model, "needs_cov", True) else None)
+        todo = esss[:, t - 1] <= ess_threshold * P
+        idx = particle.systematic_resample(lw, u)
+        x = np.where(todo[:, None, None], particle.resample(x, idx), x)
+        logw = np.where(todo[:, None], -np.log(P), lw)
+    return means, esss
+
+
+def _both(sc, scheme, feedback, likelihood="corrected", l=1.0, n=12, P=120, seed=5,
+          ess_threshold=1.0):
+    """The FC model through run_filter (compiled kernels) and through the NumPy loop."""
+    rng = np.random.default_rng(seed)
+    x, z = sc.sample(rng, n)
+    u = rng.random(z.shape)
+    eta = cs.threshold(l, sc.N)
+    args = (sc, scheme, feedback, likelihood, eta, l, z, u)
+    a = particle.run_filter(cs.LinearFusionCentre(*args), np.random.default_rng(seed + 1), n, P,
+                            sc.T, ess_threshold=ess_threshold)
+    fc = cs.LinearFusionCentre(*args)
+    mean, ess = _numpy_filter(fc, np.random.default_rng(seed + 1), n, P, sc.T, ess_threshold)
+    return a, mean, ess
 
 
 _ENGINE_CASES = [
@@ -617,35 +644,41 @@ _ENGINE_CASES = [
 
 
 @pytest.mark.parametrize("kw, scheme, feedback, likelihood", _ENGINE_CASES)
-def test_fused_engine_equals_the_reference_engine(monkeypatch, kw, scheme, feedback,
-                                                  likelihood):
-    """run() uses the fused filter; it draws the same random numbers as _FusionCentre through
-    particle.run_filter (sub-block by sub-block: here 5 trials each, so blocks of 16 trials have
-    four) and must give the same per-trial results, up to rounding (the interpolation tables
-    differ from the exact functions by < 1e-11 in the log weights)."""
-    monkeypatch.setattr(cs, "_SUB_PARTICLES", 5 * 120)
-    assert [r.stop - r.start for r in cs._sub_blocks(16, 120)] == [5, 5, 5, 1]
-    a, b = _engines(cs.LinearScenario(T=8, **kw), scheme, feedback, likelihood)
-    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
+def test_loop_with_kernels_equals_the_numpy_loop(kw, scheme, feedback, likelihood):
+    """run_filter (compiled weight moments and resampling) and the same loop written with
+    particle's NumPy functions draw the same random numbers and give the same estimates, up to
+    rounding (sequential against pairwise sums)."""
+    a, mean, ess = _both(cs.LinearScenario(T=8, **kw), scheme, feedback, likelihood)
+    np.testing.assert_allclose(a.mean, mean, rtol=1e-8, atol=1e-9)
+    np.testing.assert_allclose(a.ess, ess, rtol=1e-8)
 
 
-def test_fused_engine_adaptive_resampling_equals_the_reference():
-    a, b = _engines(cs.LinearScenario(T=10), "cfwmd", "state", ess_threshold=0.5)
-    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
-    assert np.any(a[..., 3] < 0.5) and np.any(a[..., 3] > 0.5)
+def test_loop_adaptive_resampling_equals_the_numpy_loop():
+    a, mean, ess = _both(cs.LinearScenario(T=10), "cfwmd", "state", ess_threshold=0.5)
+    np.testing.assert_allclose(a.mean, mean, rtol=1e-8, atol=1e-9)
+    np.testing.assert_allclose(a.ess, ess, rtol=1e-8)
+    assert np.any(a.ess < 0.5 * 120) and np.any(a.ess > 0.5 * 120)
 
 
-def test_fused_engine_sub_blocks_only_split_the_random_stream(monkeypatch):
-    """Every operation of the fused filter is row-wise; the sub-blocks only decide the order in
-    which the filter's random numbers are drawn. With one sub-block per trial, the fused filter
-    equals the reference filter run trial by trial."""
+def test_sub_blocks_only_split_the_random_stream(monkeypatch):
+    """Every operation of the FC model is row-wise; the sub-blocks only decide the order in
+    which the filter's random numbers are drawn. With one sub-block per trial, _chunk equals
+    run_filter run trial by trial on the same stream."""
+    sc = cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1)))
+    kw = dict(scenario=sc, scheme="cfwmd", feedback="state", likelihood="corrected",
+              eta=cs.threshold(1.0, 3), l=1.0, n_particles=120, ess_threshold=1.0)
     monkeypatch.setattr(cs, "_SUB_PARTICLES", 1)
-    a, b = _engines(cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1))), "cfwmd",
-                    "state", n=12, block_size=12)
-    np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-10)
+    a = cs._chunk(np.random.default_rng(3), 6, **kw)
+    rng_data, rng_pf = cs._streams(np.random.default_rng(3))
+    x, z = sc.sample(rng_data, 6)
+    u = rng_data.random(z.shape)
+    for i in range(6):
+        fc = cs.LinearFusionCentre(sc, "cfwmd", "state", "corrected", kw["eta"], 1.0,
+                                   z[i:i + 1], u[i:i + 1])
+        out = particle.run_filter(fc, rng_pf, 1, 120, sc.T)
+        assert np.array_equal(a[i:i + 1], cs.trial_columns(out, x[i:i + 1], fc.sent, 120))
     monkeypatch.setattr(cs, "_SUB_PARTICLES", 1 << 15)
-    c, _ = _engines(cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1))), "cfwmd",
-                    "state", n=12, block_size=12)
+    c = cs._chunk(np.random.default_rng(3), 6, **kw)
     assert not np.allclose(a, c)  # another split of the stream: other draws
 
 

@@ -21,11 +21,10 @@ Entry points (signature, one line each):
   exact no-feedback filter instead.
 * ``LinearScenario(N=2, r=1.0, sigma2=4.0, T=20, x0=(0, 10), ...)``: the model of Section VII.A.
 * ``run(scenario, scheme, *, l, n_trials, n_particles, seed, feedback="state", ...)
-  -> CensoringResult``: the four schemes at the FC, through ``montecarlo.simulate``. It runs
-  the fused filter :class:`_FusedFilter` (the exact no-feedback filter runs
-  :class:`_ExactFusionCentre` through :func:`fusioncenter.particle.run_filter`); the reference
-  :class:`_FusionCentre` (the same filter written as a ``particle.FilterModel``) draws the same
-  random numbers and is kept for the tests, which check that both agree.
+  -> CensoringResult``: the four schemes at the FC, through ``montecarlo.simulate``. Every
+  fusion centre is a model of the one particle-filter loop :func:`fusioncenter.particle.run_filter`:
+  :class:`LinearFusionCentre` for every scheme, :class:`_ExactFusionCentre` for the exact
+  no-feedback filter.
 * ``paired_difference(a, b, component="position") -> (diff, stderr)``: time-averaged RMSE of
   ``a`` minus that of ``b`` on the same trials, with its paired standard error.
 
@@ -789,87 +788,6 @@ class _FeedbackModel(_ReferenceFC):
                 self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
 
 
-class _FusionCentre(_FeedbackModel):
-    """The FC's particle-filter model (a :class:`fusioncenter.particle.FilterModel`) for one
-    block of trials: it also plays the sensors, because with feedback their decisions at step
-    ``t`` depend on what the FC broadcast after step ``t - 1``."""
-
-    def __init__(self, sc: LinearScenario, scheme: str, feedback: str, likelihood: str,
-                 eta: float, l: float, z: np.ndarray, sel_u: np.ndarray):
-        self.sc, self.scheme, self.feedback, self.likelihood = sc, scheme, feedback, likelihood
-        self.eta, self.l = eta, l
-        self.z, self.sel_u = z, sel_u
-        n, T, N = z.shape
-        self.n, self.N = n, N
-        self.dim = 2
-        self.H, self.r = sc.H, sc.rvec
-        self.groups = sc.sensor_groups()
-        self.local = sc.local_filters()
-        self.sent = np.zeros((n, T, N), dtype=bool)
-        self._first_prediction(n)
-        self.censor = scheme in ("cfomd", "cfwmd")
-        self.needs_cov = feedback == "state+cov" and sc.feedback_moments == "analytic" \
-            and self.censor
-        self._fixed_decisions(feedback, l, sel_u)
-
-    # --- sensors
-    def _local_decisions(self) -> None:
-        """No feedback: every sensor runs its own KF; decisions do not depend on the FC."""
-        self.sent[:] = _local_decisions(self.sc, self.eta, self.z)
-
-    def _feedback_decisions(self, t: int, x: np.ndarray) -> np.ndarray:
-        """With feedback: innovations against the broadcast prediction; returns ``s`` ``(n, N)``."""
-        self._cloud_moments(x)
-        if self.feedback == "state+cov":
-            s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
-        else:
-            s = np.broadcast_to(self.local["s"][t - 1], (self.n, self.N))
-        nu = self.z[:, t - 1] - self.pred_mean @ self.H.T
-        self.sent[:, t - 1] = nu * nu >= self.eta * s
-        return s
-
-    # --- FilterModel (initial, transition, observe: see _FeedbackModel)
-    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
-        s = None
-        if self.censor and self.feedback != "none":
-            s = self._feedback_decisions(t, x)
-        sent = self.sent[:, t - 1]
-        z = self.z[:, t - 1]
-        out = np.zeros(x.shape[:2])
-        for g in self.groups:
-            hg, rg = self.H[g[0]], self.r[g[0]]
-            y = x @ hg  # (n, P): h^T x for every particle
-            sg = sent[:, g]
-            n_obs = sg.sum(axis=1).astype(float)[:, None]
-            if np.any(n_obs):
-                # sum over the received sensors of log N(z_i; y, r) = -(n (y - zbar)^2 +
-                # sum (z_i - zbar)^2) / (2 r) + const: one pass over the particles, centred
-                # (no cancellation however large the positions)
-                zs = np.where(sg, z[:, g], 0.0)
-                zbar = zs.sum(axis=1, keepdims=True) / np.maximum(n_obs, 1.0)
-                ss = (np.where(sg, zs - zbar, 0.0) ** 2).sum(axis=1, keepdims=True)
-                out += (-0.5 / rg) * (n_obs * (y - zbar) ** 2 + ss) \
-                    - 0.5 * n_obs * (_LOG_2PI + math.log(rg))
-            if self.scheme != "cfwmd":
-                continue
-            n_sil = len(g) - n_obs
-            if self.feedback == "none":
-                continue  # handled below (not a per-sensor product)
-            if not np.any(n_sil):
-                continue
-            sd = math.sqrt(rg)
-            mu = (y - (self.pred_mean @ hg)[:, None]) / sd
-            hh = np.sqrt(self.eta * s[:, g[0]])[:, None] / sd
-            with np.errstate(invalid="ignore"):
-                out += np.where(n_sil > 0, n_sil * _log_inside_fast(mu, hh), 0.0)
-        if self.scheme == "cfwmd" and self.feedback == "none":
-            hx = x @ self.H.T  # (n, P, N)
-            out += _no_feedback_region(sent, z, hx,
-                                       self.local["C"][t - 1], self.r, self.eta,
-                                       self.likelihood)
-        return out
-
-
 def _truncated_normal(u, lo, hi):
     """Inverse-cdf draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (``u ~ U[0, 1)``).
 
@@ -990,10 +908,10 @@ class _ExactFusionCentre(_ExactModel):
         pass
 
 
-# ----------------------------------------------------------------------------- the fused filter
+# ----------------------------------------------------------------------------- tables, the FC model
 #: The tables cover ``|x| < 48`` (beyond, the exact function is evaluated).
 _TABLE_EXTENT = 48.0
-#: Trials per sub-block of :class:`_FusedFilter`: about 32k particles, so that a sub-block's
+#: Trials per sub-block of :class:`LinearFusionCentre`: about 32k particles, so that a sub-block's
 #: arrays stay in the core's cache while the ~40 array passes of a step run over them.
 _SUB_PARTICLES = 1 << 15
 
@@ -1156,34 +1074,44 @@ def _sub_blocks(n: int, P: int) -> list[slice]:
     return [slice(s0, min(n, s0 + sub)) for s0 in range(0, n, sub)]
 
 
-class _FusedFilter:
-    """The FC's particle filter for every scheme except the exact no-feedback one, fused.
+class LinearFusionCentre:
+    """The FC of a :class:`LinearScenario` as a model of :func:`fusioncenter.particle.run_filter`
+    (every scheme except the exact no-feedback filter, :class:`_ExactFusionCentre`).
 
-    The same filter as :class:`_FusionCentre` run by :func:`fusioncenter.particle.run_filter`
-    on each sub-block of trials in turn (it draws the same random numbers in the same order, and
-    the tests check that the two agree to rounding), organized for speed:
+    A model for one block of trials (``z (n, T, N)``): it also plays the sensors, because with
+    feedback their decisions at step ``t`` depend on what the FC broadcast after step ``t - 1``.
+    Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
 
-    * the trials of a block are processed in sub-blocks of about 32k particles (whole trials,
-      :func:`_sub_blocks`), each through all its steps, so that the ~40 array passes of a step
-      work on data in the core's cache; the filter's random numbers are drawn sub-block by
-      sub-block (the sub-blocks are fixed by ``n_particles``, so results still do not depend on
-      chunking or executors); every operation is row-wise, so apart from the draws a trial's
-      result does not depend on the other trials;
-    * the particles are two ``(trials, P)`` arrays (position, velocity), not one
-      ``(trials, P, 2)``;
+    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna`);
     * the silent factor with state feedback is the interpolation table :func:`_silent_table`
-      (its ``h`` is the same for every trial at a step), as is the corrected Proposition 3 with
-      one sensor received (:func:`_region_table`) and, per trial, with both received
-      (:func:`_interp_rows`); CFwMD2's factor (``h`` differs per trial) uses two ``ndtr`` per
-      particle;
-    * additive constants of a trial's log weights are dropped, the weights are normalized once
-      (``exp`` of the log weights minus their maximum), and the covariance is computed only when
-      CFwMD2 feeds it back;
-    * three inner loops are compiled (:mod:`fusioncenter._kernels`, Numba): the interpolation
-      table at every particle, the weight sum, weighted means and ESS in one pass, and
-      systematic resampling in one pass per trial (NumPy needs ``cumsum``, ``ceil``, ``repeat``
-      and a gather per coordinate). They do the NumPy arithmetic, row by row.
+      (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
+      corrected Proposition 3 with one sensor received (:func:`_region_table`) and, per trial,
+      with both received (:func:`_interp_rows`); CFwMD2's factor (``h`` differs per trial) uses
+      two ``ndtr`` per particle;
+    * additive constants of a trial's log weights are dropped, and the covariance is computed
+      (by the loop) only when CFwMD2 feeds it back.
+
+    :func:`run` gives the loop sub-blocks of about 32k particles (whole trials,
+    :func:`_sub_blocks`), one model each, so that the ~40 array passes of a step work on data
+    in the core's cache.
+
+    Parameters
+    ----------
+    sc : LinearScenario
+        The model.
+    scheme, feedback, likelihood : str
+        As in :func:`run`.
+    eta : float
+        Censoring threshold.
+    l : float
+        Average number of sending sensors (random selection sends with probability ``l / N``).
+    z : numpy.ndarray
+        Measurements ``(n, T, N)``.
+    sel_u : numpy.ndarray
+        Random-selection uniforms ``(n, T, N)``.
     """
+
+    dim = 2
 
     def __init__(self, sc: LinearScenario, scheme: str, feedback: str, likelihood: str,
                  eta: float, l: float, z: np.ndarray, sel_u: np.ndarray):
@@ -1197,7 +1125,7 @@ class _FusedFilter:
         self.local = sc.local_filters()
         dyn = sc.dynamics
         self.dt = float(dyn.F[0, 1])
-        self.LQ = dyn._LQ
+        self.LQ = particle.psd_factor(dyn.Q)
         self.censor = scheme in ("cfomd", "cfwmd")
         self.fb = self.censor and feedback != "none"
         self.analytic = sc.feedback_moments == "analytic"
@@ -1213,31 +1141,34 @@ class _FusedFilter:
         else:
             self.sent = np.zeros((n, T, N), dtype=bool)
         self.nf_region = scheme == "cfwmd" and feedback == "none"
+        self.needs_cov = self.need_cov
+        self._tmp = np.empty((n, 0))
+        self._g = np.empty((n, 0, 0))
 
-    # --- the sensors' decisions at step k = t - 1 (feedback) for rows R
-    def _decide(self, R: slice, k: int, pos, vel) -> np.ndarray | None:
+    # --- the sensors' decisions at step k = t - 1 (feedback)
+    def _decide(self, k: int, pos, vel) -> np.ndarray | None:
         if not self.analytic:  # moments of the propagated cloud
             P = pos.shape[1]
             mp, mv = pos.mean(axis=1), vel.mean(axis=1)
-            self.pred_mean[R, 0], self.pred_mean[R, 1] = mp, mv
+            self.pred_mean[:, 0], self.pred_mean[:, 1] = mp, mv
             if self.feedback == "state+cov":
                 dp, dv = pos - mp[:, None], vel - mv[:, None]
                 cpp, cpv, cvv = ((dp * dp).sum(1) / P, (dp * dv).sum(1) / P,
                                  (dv * dv).sum(1) / P)
-                self.pred_cov[R] = np.stack([np.stack([cpp, cpv], -1),
+                self.pred_cov = np.stack([np.stack([cpp, cpv], -1),
                                              np.stack([cpv, cvv], -1)], -2)
         if self.feedback == "state+cov":
-            s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov[R], self.H) + self.r
+            s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
         else:
             s = self.local["s"][k]
-        nu = self.z[R, k] - self.pred_mean[R] @ self.H.T
-        self.sent[R, k] = nu * nu >= self.eta * s
+        nu = self.z[:, k] - self.pred_mean @ self.H.T
+        self.sent[:, k] = nu * nu >= self.eta * s
         return s
 
-    # --- log weights of rows R at step k (additive per-row constants dropped)
-    def _log_weight(self, R: slice, k: int, pos, vel, lw, tmp) -> None:
-        s = self._decide(R, k, pos, vel) if self.fb else None
-        sent, z = self.sent[R, k], self.z[R, k]
+    # --- log weights at step k (additive per-row constants dropped)
+    def _log_weight(self, k: int, pos, vel, lw, tmp) -> None:
+        s = self._decide(k, pos, vel) if self.fb else None
+        sent, z = self.sent[:, k], self.z[:, k]
         ys = {}
         started = False  # lw holds a value (the first term is written, not added)
         for g in self.groups:
@@ -1267,7 +1198,7 @@ class _FusedFilter:
             if rows.size == 0:
                 continue
             sd = math.sqrt(rg)
-            hp = self.pred_mean[R] @ hg
+            hp = self.pred_mean @ hg
             # most trials have a silent sensor: evaluate every row (no fancy indexing) and
             # zero the others, unless few rows need it
             every = 2 * rows.size >= n_sil.size
@@ -1342,102 +1273,41 @@ class _FusedFilter:
                 mean = np.where(pat, z[rows][:, None, :] - hx, 0.0)
                 lw[rows] += _log_rect_prob(mean, cov, a, pat)
 
-    # --- the loop
-    def run(self, rng: np.random.Generator, P: int, ess_threshold: float,
-            x_true: np.ndarray) -> np.ndarray:
-        n, T = self.n, self.T
-        dyn = self.sc.dynamics
-        out = np.zeros((n, T, 5))
-        out[..., 2] = self.sent.sum(axis=-1)  # fixed in advance without feedback
-        every_step = ess_threshold >= 1.0
-        lw_prev = None if every_step else np.zeros((n, P))
-        kq = self.LQ.shape[1]
-        blocks = _sub_blocks(n, P)
-        mmax = max(R.stop - R.start for R in blocks)
-        work = [np.empty((mmax, P)) for _ in range(5)]
-        gbuf = np.empty((mmax, P, kq))
-        rowbuf = np.empty((4, mmax))
-        every = np.ones(mmax, dtype=bool)
-        anc = np.empty((mmax, P), dtype=np.intp)
-        for R in blocks:
-            m = R.stop - R.start
-            lw, tmp, cb, p2, v2 = (w[:m] for w in work)
-            # the random numbers of particle.run_filter on this sub-block, in its order: the
-            # initial particles, then per step the particles' noise (as LinearGaussianDynamics
-            # draws it) and one uniform per trial
-            x0 = dyn.initial(rng, m, P)
-            p, v = np.ascontiguousarray(x0[..., 0]), np.ascontiguousarray(x0[..., 1])
-            for t in range(1, T + 1):
-                k = t - 1
-                g = rng.standard_normal(out=gbuf[:m]) if kq else None
-                u = rng.random(m)
-                # A1.3: propagate (F = [[1, dt], [0, 1]], noise L g with L L^T = Q)
-                if self.dt == 1.0:
-                    p += v
-                else:
-                    np.multiply(v, self.dt, out=tmp)
-                    p += tmp
-                for j in range(kq):
-                    gj = g[:, :, j]
-                    np.multiply(gj, self.LQ[0, j], out=tmp)
-                    p += tmp
-                    np.multiply(gj, self.LQ[1, j], out=tmp)
-                    v += tmp
-                # A1.4: weights
-                self._log_weight(R, k, p, v, lw, tmp)
-                if lw_prev is not None:
-                    lw += lw_prev[R]
-                mx = lw.max(axis=1)
-                if np.isnan(mx).any():
-                    raise ValueError("log weights must not be NaN")
-                dead = mx == -np.inf  # no particle compatible with the data: ignore them
-                if dead.any():
-                    lw[dead] = 0.0
-                    mx[dead] = 0.0
-                lw -= mx[:, None]
-                w = np.exp(lw, out=lw)
-                # A1.5: estimate (weight sum, weighted means, ESS in one pass)
-                S, mp, mv, ess = (a[:m] for a in rowbuf)
-                _kernels.weighted_moments(w, p, v, S, mp, mv, ess)
-                out[R, k, 0] = (mp - x_true[R, t, 0]) ** 2
-                out[R, k, 1] = (mv - x_true[R, t, 1]) ** 2
-                out[R, k, 3] = ess / P
-                out[R, k, 4] = dead
-                if self.fb:
-                    out[R, k, 2] = self.sent[R, k].sum(axis=-1)
-                if self.analytic:  # what is fed back at t + 1
-                    self.pred_mean[R, 0] = mp + self.dt * mv
-                    self.pred_mean[R, 1] = mv
-                    if self.need_cov:
-                        self.pred_cov[R] = self._predicted_cov(w, S, p, v, mp, mv, tmp, cb)
-                # A1.6: systematic resampling (one uniform per trial)
-                todo = None if every_step else ess <= ess_threshold * P
-                if lw_prev is not None:
-                    with np.errstate(divide="ignore"):
-                        keep = np.log(w / S[:, None])
-                    lw_prev[R] = np.where(todo[:, None], 0.0, keep)
-                a = anc[:m]
-                _kernels.systematic_ancestors(w, S, u, every[:m] if todo is None else todo, a)
-                _kernels.take_rows(p, a, p2)
-                _kernels.take_rows(v, a, v2)
-                p, p2 = p2, p
-                v, v2 = v2, v
-        return out
+    # --- FilterModel
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
+        """``(n, P, 2)`` draws of ``x_0`` (:meth:`LinearGaussianDynamics.initial`), stored
+        component by component (:func:`fusioncenter.particle.by_component`)."""
+        return particle.by_component(self.sc.dynamics.initial(rng, n, P))
 
-    def _predicted_cov(self, w, S, p, v, mp, mv, tmp, cb) -> np.ndarray:
-        """``F Cov F^T + Q`` from the weighted particle covariance (CFwMD2, analytic)."""
-        np.subtract(p, mp[:, None], out=tmp)
-        np.subtract(v, mv[:, None], out=cb)
-        dv_w = cb * w
-        cvv = (dv_w * cb).sum(axis=1) / S
-        cpv = (dv_w * tmp).sum(axis=1) / S
-        tmp *= tmp
-        tmp *= w
-        cpp = tmp.sum(axis=1) / S
-        cov = np.stack([np.stack([cpp, cpv], -1), np.stack([cpv, cvv], -1)], -2)
-        F, Q = self.sc.F, self.sc.Q
-        pc = F @ cov @ F.T + Q
-        return 0.5 * (pc + np.swapaxes(pc, -1, -2))
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
+        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``."""
+        shape = (*x.shape[:2], self.LQ.shape[1])
+        if self._g.shape != shape:
+            self._g = np.empty(shape)
+        if shape[2]:
+            rng.standard_normal(out=self._g)
+        _kernels.propagate_wna(x, self.dt, self._g, self.LQ)
+        return x
+
+    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
+        """A1.4: the log-likelihood of what the FC received at ``t`` (per-trial constants
+        dropped), ``(n, P)``."""
+        if self._tmp.shape != x.shape[:2]:
+            self._tmp = np.empty(x.shape[:2])
+        lw = np.empty(x.shape[:2])
+        self._log_weight(t - 1, x[..., 0], x[..., 1], lw, self._tmp)
+        return lw
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        """What is fed back at ``t + 1`` (``feedback_moments="analytic"``): ``F mean`` and
+        ``F cov F^T + Q``."""
+        if self.analytic:
+            self.pred_mean[:, 0] = mean[:, 0] + self.dt * mean[:, 1]
+            self.pred_mean[:, 1] = mean[:, 1]
+            if self.need_cov:
+                F, Q = self.sc.F, self.sc.Q
+                pc = F @ cov @ F.T + Q
+                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
 
 
 def _streams(rng: np.random.Generator) -> tuple[np.random.Generator, np.random.Generator]:
@@ -1448,45 +1318,63 @@ def _streams(rng: np.random.Generator) -> tuple[np.random.Generator, np.random.G
 
 def _chunk(rng: np.random.Generator, n: int, *, scenario: LinearScenario, scheme: str,
            feedback: str, likelihood: str, eta: float, l: float, n_particles: int,
-           ess_threshold: float, engine: str = "fused") -> np.ndarray:
+           ess_threshold: float) -> np.ndarray:
     """``chunk_fn`` for :func:`fusioncenter.montecarlo.simulate`: ``(n, T, d + 3)`` per trial.
 
-    Columns ``[squared error per state component (d) | number of sensors that sent |
-    ESS / n_particles | 1 if the weights collapsed]``. Two independent streams are spawned from
-    ``rng``: the first draws the truth, the measurements and the random-selection uniforms (in
-    that order, for every scheme: trials are paired across schemes), the second the filter's
-    particles and resampling uniforms; the latter is an SFC64 generator seeded by the spawned
-    seed sequence (its normal draws are 10-20 % cheaper than PCG64's here, and they are the
-    largest single cost of the filter). ``engine="fused"`` (what :func:`run` uses) runs
-    :class:`_FusedFilter` for every scheme but the exact no-feedback filter;
-    ``engine="reference"`` runs :class:`_FusionCentre` through
-    :func:`fusioncenter.particle.run_filter` (the same random numbers; the tests compare them).
+    Columns: see :func:`trial_columns`. Two independent streams are spawned from ``rng``: the
+    first draws the truth, the measurements and the random-selection uniforms (in that order, for
+    every scheme: trials are paired across schemes), the second the filter's particles and
+    resampling uniforms; the latter is an SFC64 generator seeded by the spawned seed sequence
+    (its normal draws are 10-20 % cheaper than PCG64's here, and they are the largest single cost
+    of the filter). :class:`LinearFusionCentre` runs through
+    :func:`fusioncenter.particle.run_filter` sub-block by sub-block (:func:`_sub_blocks`); the
+    exact no-feedback filter :class:`_ExactFusionCentre` on the whole block at once.
     """
     rng_data, rng_pf = _streams(rng)
     x, z = scenario.sample(rng_data, n)
     sel_u = rng_data.random(z.shape)
-    exact = scheme == "cfwmd" and feedback == "none" and likelihood == "exact"
-    if engine == "fused" and not exact:
-        filt = _FusedFilter(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
-        return filt.run(rng_pf, n_particles, ess_threshold, x)
-    if exact:  # the whole block at once
-        fc = _FusionCentre(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
+    T = scenario.T
+    if scheme == "cfwmd" and feedback == "none" and likelihood == "exact":
+        fc = LinearFusionCentre(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
         model = _ExactFusionCentre(scenario, eta, z, fc.sent)
-        return _reference_output(model, fc, rng_pf, n, n_particles, ess_threshold, x)
-    # the reference engine, sub-block by sub-block (the fused filter's order of draws)
+        out = particle.run_filter(model, rng_pf, n, n_particles, T, ess_threshold=ess_threshold)
+        return trial_columns(out, x, fc.sent, n_particles, model.relaxed)
     parts = []
     for R in _sub_blocks(n, n_particles):
-        fc = _FusionCentre(scenario, scheme, feedback, likelihood, eta, l, z[R], sel_u[R])
-        parts.append(_reference_output(fc, fc, rng_pf, R.stop - R.start, n_particles,
-                                       ess_threshold, x[R]))
+        fc = LinearFusionCentre(scenario, scheme, feedback, likelihood, eta, l, z[R], sel_u[R])
+        out = particle.run_filter(fc, rng_pf, R.stop - R.start, n_particles, T,
+                                  ess_threshold=ess_threshold)
+        parts.append(trial_columns(out, x[R], fc.sent, n_particles))
     return np.concatenate(parts, axis=0)
 
 
-def _reference_output(model, fc, rng, n, n_particles, ess_threshold, x) -> np.ndarray:
-    out = particle.run_filter(model, rng, n, n_particles, fc.sc.T, ess_threshold=ess_threshold)
-    sq = (out.mean[..., :2] - x[:, 1:]) ** 2
-    collapsed = out.collapsed | getattr(model, "relaxed", False)
-    return np.concatenate([sq, fc.sent.sum(axis=-1, keepdims=True).astype(float),
+def trial_columns(out: particle.FilterOutput, x_true: np.ndarray, sent: np.ndarray,
+                  n_particles: int, relaxed: np.ndarray | None = None) -> np.ndarray:
+    """The per-trial columns of a :class:`CensoringResult` from a filter's output.
+
+    Parameters
+    ----------
+    out : fusioncenter.particle.FilterOutput
+        The filter's output for ``n`` trials and ``T`` steps.
+    x_true : numpy.ndarray
+        True states ``(n, T + 1, d')``; the first two components are compared with the estimate.
+    sent : numpy.ndarray
+        Who sent, bool ``(n, T, N)`` (or ``(n, T, N)`` of a vector scenario).
+    n_particles : int
+        Particles per trial (to express the ESS as a fraction).
+    relaxed : numpy.ndarray, optional
+        Bool ``(n, T)``: steps whose constraints an exact filter relaxed (counted as collapsed).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, T, 5)``: squared error of the two state components, number of sensors that sent,
+        ESS / ``n_particles``, 1 if the weights collapsed.
+    """
+    sq = (out.mean[..., :2] - x_true[:, 1:, :2]) ** 2
+    collapsed = out.collapsed if relaxed is None else out.collapsed | relaxed
+    n_sent = sent.reshape(*sent.shape[:2], -1).sum(axis=-1)
+    return np.concatenate([sq, n_sent[..., None].astype(float),
                            out.ess[..., None] / n_particles,
                            collapsed[..., None].astype(float)], axis=-1)
 
@@ -1651,17 +1539,16 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
 
     Runs through :func:`fusioncenter.montecarlo.simulate`: results are bitwise identical for any
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
-    ``n_trials`` and ``block_size``. Every scheme except the exact no-feedback filter runs the
-    fused filter (:class:`_FusedFilter`): on the project's 2-core machine about 20 ns per
-    particle and step for CFwMD with state feedback (the reference engine: about 60;
-    ``benchmarks/bench_censoring.py``), of which about 7 are the normal draws, 3 the silent
-    factor and 4 the resampling; less for the schemes without a silent factor, more for CFwMD2
-    (two ``ndtr`` per particle) and for the corrected Proposition 3 (bivariate normal
-    probabilities). Peak memory of a task
-    (tracemalloc): a few MiB for the fused filter (it works on sub-blocks of about 32k
-    particles: 5 MiB for the default 256 trials x 1000 particles), 340 bytes per particle of a
-    block for the exact no-feedback filter (83 MiB), plus the per-trial results
-    (``n_trials * T * 5 * 8`` bytes).
+    ``n_trials`` and ``block_size``. Every scheme except the exact no-feedback filter runs
+    :class:`LinearFusionCentre` through :func:`fusioncenter.particle.run_filter`, sub-block by
+    sub-block: on the project's 2-core machine about 20-30 ns per particle and step for CFwMD
+    with state feedback (``benchmarks/bench_censoring.py``), of which about 7 are the normal
+    draws, 3 the silent factor and 4 the resampling; less for the schemes without a silent
+    factor, more for CFwMD2 (two ``ndtr`` per particle) and for the corrected Proposition 3
+    (bivariate normal probabilities). Peak memory of a task (tracemalloc): a few MiB for
+    :class:`LinearFusionCentre` (it works on sub-blocks of about 32k particles: 5 MiB for the
+    default 256 trials x 1000 particles), 340 bytes per particle of a block for the exact no-
+    feedback filter (83 MiB), plus the per-trial results (``n_trials * T * 5 * 8`` bytes).
 
     A :class:`fusioncenter.censoring_vector.VectorScenario` or a
     :class:`fusioncenter.censoring_nonlinear.NonlinearScenario` is handed to that module's

@@ -1179,16 +1179,17 @@ def _lin(M, c0, c1):
 
 
 class _FusedVector:
-    """The FC's particle filter for every scheme, fused (what :func:`run` uses by default).
+    """The FC's model of :func:`fusioncenter.particle.run_filter` for every scheme, with the
+    silent factor from the interpolation tables (what :func:`run` uses by default).
 
-    The same filter as :class:`_VectorFC` / :class:`_VectorExactFC` run by
-    :func:`fusioncenter.particle.run_filter` -- it draws the same random numbers in the same order
-    and the tests check that the two agree to rounding -- organized for speed: particles as
-    separate ``(n, P)`` component arrays (position, velocity and, for the exact no-feedback
-    filter, every sensor's local prediction), each step run over sub-blocks of whole trials of
-    about 16k particles (every operation is row-wise, so a trial's result depends neither on the
-    sub-blocks nor on the other trials), the silent factor from the interpolation tables, and
-    additive per-trial constants of the log weights dropped.
+    The same model as :class:`_VectorFC` / :class:`_VectorExactFC` with
+    ``probability="table"`` -- it draws the same random numbers in the same order and the tests
+    check that the two agree to rounding -- organized for speed: particles stored component by
+    component (:func:`fusioncenter.particle.by_component`: position, velocity and, for the exact
+    no-feedback filter, every sensor's local prediction), the weights computed over sub-blocks of
+    whole trials of about 16k particles (every operation is row-wise, so a trial's result depends
+    neither on the sub-blocks nor on the other trials), and additive per-trial constants of the
+    log weights dropped.
     """
 
     def __init__(self, sc: VectorScenario, scheme: str, feedback: str, likelihood: str,
@@ -1211,6 +1212,10 @@ class _FusedVector:
         if self.exact:
             self.xref = _VectorExactFC(sc, eta, z, self.sent, "table", 1, None)
         self.sqeta = math.sqrt(eta)
+        self.dim = 2 + 2 * N if self.exact else 2
+        self.needs_cov = self.need_cov
+        self.LQ = particle.psd_factor(sc.Q)  # the factor LinearGaussianDynamics draws with
+        self.dt = float(sc.F[0, 1])
 
     # --- sensors with feedback (rows R, step k)
     def _decide(self, R: slice, k: int, p, v):
@@ -1353,106 +1358,58 @@ class _FusedVector:
             h0[...] = F[0, 0] * u0 + F[0, 1] * u1
             h1[...] = F[1, 0] * u0 + F[1, 1] * u1
 
-    # --- the loop
-    def run(self, rng: np.random.Generator, P: int, ess_threshold: float,
-            x_true: np.ndarray) -> np.ndarray:
-        n, T = self.n, self.T
+    # --- FilterModel (fusioncenter.particle.run_filter on the whole block)
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
+        """``(n, P, dim)``: ``x_0`` drawn from the prior, then (exact filter) every sensor's
+        local prediction ``F x0``."""
         dyn = self.sc.dynamics
-        x0 = dyn.initial(rng, n, P)  # the same draws as particle.run_filter
-        pos, vel = np.ascontiguousarray(x0[..., 0]), np.ascontiguousarray(x0[..., 1])
-        arrays = [pos, vel]
+        x = particle.by_component(np.empty((n, P, self.dim)))
+        x[..., :2] = dyn.initial(rng, n, P)
         if self.exact:
             start = self.sc.F @ dyn.m0
-            for _ in range(self.N):
-                arrays += [np.full((n, P), start[0]), np.full((n, P), start[1])]
-        spare = [np.empty_like(pos) for _ in arrays]
-        out = np.zeros((n, T, 5))
-        if not self.fb:
-            out[..., 2] = self.sent.sum(axis=-1)
-        every_step = ess_threshold >= 1.0
-        lw_prev = None if every_step else np.zeros((n, P))
+            x[..., 2::2] = start[0]
+            x[..., 3::2] = start[1]
+        return x
+
+    def _local_views(self, x, R=slice(None)):
+        return [(x[R, :, 2 + 2 * i], x[R, :, 3 + 2 * i]) for i in range(self.N)] \
+            if self.exact else None
+
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
+        """The exact filter's local Kalman updates of step ``t - 1`` (they draw the missing
+        measurements), then ``F x + L g`` for the target (in place)."""
+        if self.exact and t > 1:
+            self._local_update(rng, t - 2, x[..., 0], x[..., 1], self._local_views(x))
+        kq = self.LQ.shape[1]
+        g = rng.standard_normal((*x.shape[:2], kq)) if kq else np.empty((*x.shape[:2], 0))
+        _kernels.propagate_wna(x, self.dt, g, self.LQ)
+        return x
+
+    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
+        """Log weights ``(n, P)``, computed on sub-blocks of about 16k particles (whole trials;
+        every operation is row-wise, so the sub-blocks do not change a trial's weights)."""
+        n, P = x.shape[:2]
+        lw = np.empty((n, P))
         sub = max(1, _SUB_PARTICLES // P)
-        LQ = particle.psd_factor(dyn.Q)  # the factor LinearGaussianDynamics draws with
-        kq = LQ.shape[1]
-        dt = float(self.sc.F[0, 1])
-        F, Q = self.sc.F, self.sc.Q
-        work = np.empty((min(sub, n), P))
-        rowbuf = np.empty((4, min(sub, n)))
-        every = np.ones(min(sub, n), dtype=bool)
-        anc = np.empty((min(sub, n), P), dtype=np.intp)
-        for t in range(1, T + 1):
-            k = t - 1
-            if self.exact and t > 1:
-                lp = [(arrays[2 + 2 * i], arrays[3 + 2 * i]) for i in range(self.N)]
-                self._local_update(rng, k - 1, arrays[0], arrays[1], lp)
-            g = rng.standard_normal((n, P, kq)) if kq else None
-            u = rng.random(n)
-            for s0 in range(0, n, sub):
-                R = slice(s0, min(n, s0 + sub))
-                m_ = R.stop - R.start
-                p, v = arrays[0][R], arrays[1][R]
-                # A1.3: propagate (x @ F^T + L g, in the order of LinearGaussianDynamics)
-                if dt == 1.0:
-                    p += v
-                else:
-                    p += dt * v
-                for j in range(kq):
-                    gj = g[R, :, j]
-                    p += gj * LQ[0, j]
-                    v += gj * LQ[1, j]
-                lp = [(arrays[2 + 2 * i][R], arrays[3 + 2 * i][R]) for i in range(self.N)] \
-                    if self.exact else None
-                lw = work[:m_]
-                self._log_weight(R, k, p, v, lp, lw)
-                if lw_prev is not None:
-                    lw += lw_prev[R]
-                mx = lw.max(axis=1)
-                if np.isnan(mx).any():
-                    raise ValueError("log weights must not be NaN")
-                dead = mx == -np.inf
-                if dead.any():  # no particle compatible with the data: uniform weights, as
-                    lw[dead] = 0.0  # particle.log_normalize (the step's data are ignored)
-                    mx[dead] = 0.0
-                lw -= mx[:, None]
-                w = np.exp(lw, out=lw)
-                # weight sum, weighted means and ESS in one compiled pass (w is not normalized)
-                S, mp, mv, ess = (a[:m_] for a in rowbuf)
-                _kernels.weighted_moments(w, p, v, S, mp, mv, ess)
-                out[R, k, 0] = (mp - x_true[R, t, 0]) ** 2
-                out[R, k, 1] = (mv - x_true[R, t, 1]) ** 2
-                out[R, k, 3] = ess / P
-                out[R, k, 4] = dead
-                if self.fb:
-                    out[R, k, 2] = self.sent[R, k].sum(axis=-1)
-                if self.fb and self.analytic:  # what is fed back at t + 1
-                    self.ref.pred_mean[R, 0] = mp + dt * mv
-                    self.ref.pred_mean[R, 1] = mv
-                    if self.need_cov:
-                        dp, dv = p - mp[:, None], v - mv[:, None]
-                        wn = w / S[:, None]
-                        wdv = wn * dv
-                        cov = np.empty((m_, 2, 2))
-                        cov[:, 0, 0] = (wn * dp * dp).sum(axis=1)
-                        cov[:, 0, 1] = cov[:, 1, 0] = (wdv * dp).sum(axis=1)
-                        cov[:, 1, 1] = (wdv * dv).sum(axis=1)
-                        pc = F @ cov @ F.T + Q
-                        self.ref.pred_cov[R] = 0.5 * (pc + np.swapaxes(pc, -1, -2))
-                # A1.6: systematic resampling (one uniform per trial), as particle.run_filter
-                todo = every[:m_] if every_step else ess <= ess_threshold * P
-                if not every_step:
-                    with np.errstate(divide="ignore"):
-                        lw_prev[R] = np.where(todo[:, None], 0.0, np.log(w / S[:, None]))
-                a = anc[:m_]
-                _kernels.systematic_ancestors(w, S, u[R], todo, a)
-                for arr, new in zip(arrays, spare, strict=True):
-                    _kernels.take_rows(arr[R], a, new[R])
-            arrays, spare = spare, arrays
-        return out
+        for s0 in range(0, n, sub):
+            R = slice(s0, min(n, s0 + sub))
+            self._log_weight(R, t - 1, x[R, :, 0], x[R, :, 1], self._local_views(x, R), lw[R])
+        return lw
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        """What is fed back at ``t + 1`` (``feedback_moments="analytic"``)."""
+        if self.fb and self.analytic:
+            self.ref.pred_mean[:, 0] = mean[:, 0] + self.dt * mean[:, 1]
+            self.ref.pred_mean[:, 1] = mean[:, 1]
+            if self.need_cov:
+                F, Q = self.sc.F, self.sc.Q
+                pc = F @ cov[:, :2, :2] @ F.T + Q
+                self.ref.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
 
 
 def _chunk(rng: np.random.Generator, n: int, *, scenario: VectorScenario, scheme: str,
            feedback: str, likelihood: str, eta: float, l: float, n_particles: int,
-           ess_threshold: float, probability: str, n_q: int, engine: str = "fused") -> np.ndarray:
+           ess_threshold: float, probability: str, n_q: int) -> np.ndarray:
     """``chunk_fn`` for :func:`fusioncenter.montecarlo.simulate`: ``(n, T, 5)`` per trial.
 
     Columns ``[squared error of position, of velocity | number of sensors that sent |
@@ -1461,9 +1418,9 @@ def _chunk(rng: np.random.Generator, n: int, *, scenario: VectorScenario, scheme
     draws the truth, the measurements and the random-selection uniforms (the same for every
     scheme: trials are paired), the second the filter's particles, resampling uniforms and the
     exact filter's imputations, the third the samples of ``probability="sampled"``.
-    ``engine="fused"`` (with ``probability="table"``) runs :class:`_FusedVector`;
-    ``"reference"`` runs :class:`_VectorFC` / :class:`_VectorExactFC` through
-    :func:`fusioncenter.particle.run_filter` (same random numbers, same results to rounding).
+    Every filter is a model of :func:`fusioncenter.particle.run_filter`: with
+    ``probability="table"`` :class:`_FusedVector` (interpolation tables, sub-blocks), otherwise
+    :class:`_VectorFC` / :class:`_VectorExactFC` (quadrature or sampled probabilities).
     """
     rng_data, rng_pf, rng_q = rng.spawn(3)
     # the filter's stream: SFC64 from the same spawned seed sequence (its normal draws, the
@@ -1471,16 +1428,18 @@ def _chunk(rng: np.random.Generator, n: int, *, scenario: VectorScenario, scheme
     rng_pf = np.random.Generator(np.random.SFC64(rng_pf.bit_generator.seed_seq))
     x, z = scenario.sample(rng_data, n)
     sel_u = rng_data.random(z.shape[:-1])
-    if engine == "fused" and probability == "table":
+    if probability == "table":
         fused = _FusedVector(scenario, scheme, feedback, likelihood, eta, l, z, sel_u)
-        out = fused.run(rng_pf, n_particles, ess_threshold, x)
-        out[..., 4] = np.maximum(out[..., 4], fused.relaxed)
-        return out
+        out = particle.run_filter(fused, rng_pf, n, n_particles, scenario.T,
+                                  ess_threshold=ess_threshold)
+        return cs.trial_columns(out, x, fused.sent, n_particles, fused.relaxed)
     fc = _VectorFC(scenario, scheme, feedback, eta, l, z, sel_u, probability, n_q, rng_q)
     model = fc
     if scheme == "cfwmd" and feedback == "none" and likelihood == "exact":
         model = _VectorExactFC(scenario, eta, z, fc.sent, probability, n_q, rng_q)
-    return cs._reference_output(model, fc, rng_pf, n, n_particles, ess_threshold, x)
+    out = particle.run_filter(model, rng_pf, n, n_particles, scenario.T,
+                              ess_threshold=ess_threshold)
+    return cs.trial_columns(out, x, fc.sent, n_particles, getattr(model, "relaxed", None))
 
 
 # ----------------------------------------------------------------------------- run
@@ -1488,7 +1447,7 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
         feedback: str = "state", likelihood: str = "exact", ess_threshold: float = 1.0,
         chunk_size: int | None = None, executor=None, progress: bool = False,
         block_size: int = montecarlo.DEFAULT_BLOCK_SIZE, probability: str = "table",
-        n_q: int = 100, engine: str = "fused") -> cs.CensoringResult:
+        n_q: int = 100) -> cs.CensoringResult:
     """Simulate ``n_trials`` trials of ``scenario`` and track them with the FC's particle filter.
 
     The same contract as :func:`fusioncenter.censoring.run` (and the same result type,
@@ -1503,10 +1462,7 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
     for ``scheme="cfwmd"`` without feedback; like every value it is ignored by the other scheme
     and feedback combinations, so the scalar library's default can be passed through).
     ``probability`` (``"table"``, ``"quadrature"``, ``"sampled"`` with ``n_q`` draws per particle)
-    selects how the silent factor is evaluated (see :data:`PROBABILITIES`); ``engine``: the
-    fused filter (default; ``probability="table"`` only) or the reference
-    :class:`fusioncenter.particle.FilterModel` run by :func:`fusioncenter.particle.run_filter`
-    (the tests check that they agree).
+    selects how the silent factor is evaluated (see :data:`PROBABILITIES`).
 
     Runs through :func:`fusioncenter.montecarlo.simulate`: results are bitwise identical for any
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
@@ -1523,8 +1479,6 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
                          f"use one of {LIKELIHOODS}")
     _one_of("probability", probability, PROBABILITIES)
     n_q = _posint("n_q", n_q)
-    if engine not in ("fused", "reference"):
-        raise ValueError(f"engine must be 'fused' or 'reference', got {engine!r}")
     eta = cs.threshold(l, scenario.N, dof=scenario.m)
     n_particles = _posint("n_particles", n_particles)
     cs._check_resampling(scenario, ess_threshold)
@@ -1533,4 +1487,4 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
                           n_trials=n_trials, seed=seed, chunk_size=chunk_size, executor=executor,
                           progress=progress, block_size=block_size,
                           chunk_kwargs={"likelihood": likelihood, "probability": probability,
-                                        "n_q": n_q, "engine": engine})
+                                        "n_q": n_q})
