@@ -10,6 +10,7 @@ from __future__ import annotations
 import concurrent.futures
 import functools
 import itertools
+import math
 
 import mpmath
 import numpy as np
@@ -335,7 +336,7 @@ def test_truncated_normal_sampler():
     for lo, hi in [(-1.0, 0.5), (0.3, 2.0), (-3.0, -2.5), (4.0, 4.5), (38.0, 39.0), (-60.0, -59.0),
                    (-0.01, 0.01)]:
         u = rng.random(100_000)
-        zz = cs._truncated_normal(u, np.full_like(u, lo), np.full_like(u, hi))
+        zz = cs.probability.truncated_normal(u, np.full_like(u, lo), np.full_like(u, hi))
         assert np.all((zz >= lo) & (zz <= hi)) and np.all(np.isfinite(zz))
         if abs(lo) < 30:
             ref = scipy.stats.truncnorm(lo, hi)
@@ -540,7 +541,7 @@ def test_exact_filters_are_calibrated_and_proposition3_is_not():
     fb = cs.LinearFusionCentre(sc, "cfwmd", "state", "corrected", eta, 1.0, z, u)
     nofb = cs.LinearFusionCentre(sc, "cfwmd", "none", "corrected", eta, 1.0, z, u)
     cfomd = cs.LinearFusionCentre(sc, "cfomd", "none", "corrected", eta, 1.0, z, u)
-    exact = cs._ExactFusionCentre(sc, eta, z, nofb.sent)
+    exact = cs.fusion.ExactFusionCentre(sc, eta, z, nofb.sent)
     assert abs(_calibration(fb, x, P, 1)) < 4.5
     assert abs(_calibration(exact, x, P, 2)) < 4.5
     # their posterior variance is far too large (z about -12 here; -6 to -13 across seeds)
@@ -667,9 +668,9 @@ def test_sub_blocks_only_split_the_random_stream(monkeypatch):
     sc = cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1)))
     kw = dict(scenario=sc, scheme="cfwmd", feedback="state", likelihood="corrected",
               eta=cs.threshold(1.0, 3), l=1.0, n_particles=120, ess_threshold=1.0)
-    monkeypatch.setattr(cs, "_SUB_PARTICLES", 1)
-    a = cs._chunk(np.random.default_rng(3), 6, **kw)
-    rng_data, rng_pf = cs._streams(np.random.default_rng(3))
+    monkeypatch.setattr(cs.fusion, "_SUB_PARTICLES", 1)
+    a = cs.dispatch._chunk(np.random.default_rng(3), 6, **kw)
+    rng_data, rng_pf = cs.results.streams(np.random.default_rng(3))
     x, z = sc.sample(rng_data, 6)
     u = rng_data.random(z.shape)
     for i in range(6):
@@ -677,18 +678,18 @@ def test_sub_blocks_only_split_the_random_stream(monkeypatch):
                                    z[i:i + 1], u[i:i + 1])
         out = particle.run_filter(fc, rng_pf, 1, 120, sc.T)
         assert np.array_equal(a[i:i + 1], cs.trial_columns(out, x[i:i + 1], fc.sent, 120))
-    monkeypatch.setattr(cs, "_SUB_PARTICLES", 1 << 15)
-    c = cs._chunk(np.random.default_rng(3), 6, **kw)
+    monkeypatch.setattr(cs.fusion, "_SUB_PARTICLES", 1 << 15)
+    c = cs.dispatch._chunk(np.random.default_rng(3), 6, **kw)
     assert not np.allclose(a, c)  # another split of the stream: other draws
 
 
 @pytest.mark.parametrize("h", [1e-3, 0.05, 0.3, 0.6744897501960817, 1.0, 1.5, 2.5, 4.0, 7.0])
 def test_silent_table_matches_the_exact_log_probability(h):
-    tab = cs._silent_table(h)
+    tab = cs.tables.silent_table(h)
     rng = np.random.default_rng(0)
     m = np.concatenate([rng.uniform(-8, 8, 200_000), rng.uniform(-60, 60, 50_000),
                         np.arange(-4000, 4000) / 256, [47.999999, 48.0, 48.000001, 1e3]])
-    ref = cs._inside(m, h, log=True)
+    ref = cs.probability.prob_inside(m, h, log=True)
     got = tab(m)
     assert np.all(np.isfinite(got))
     np.testing.assert_allclose(got, ref, rtol=1e-14, atol=5e-12)
@@ -696,8 +697,8 @@ def test_silent_table_matches_the_exact_log_probability(h):
     y = m.reshape(-1, 2)
     shift = rng.normal(0, 2, y.shape[0])
     got2 = tab.shifted(y, shift, 0.7, np.empty_like(y))
-    np.testing.assert_allclose(got2, cs._inside((y - shift[:, None]) * 0.7, h, log=True),
-                               rtol=1e-14, atol=5e-12)
+    exact = cs.probability.prob_inside((y - shift[:, None]) * 0.7, h, log=True)
+    np.testing.assert_allclose(got2, exact, rtol=1e-14, atol=5e-12)
 
 
 @pytest.mark.parametrize("t", [1, 2, 5, 19])
@@ -715,10 +716,10 @@ def test_no_feedback_tables_match_the_exact_region_probability(t):
     c = np.concatenate([rng.uniform(-10, 10, 4000), rng.uniform(-50, 50, 1000)])
     for pat, which in [((True, False), 0), ((False, True), 1)]:
         cov = C + np.diag(np.where(pat, 0.0, r))
-        tab = cs._region_table(tuple(a), tuple(map(tuple, cov)), pat, which)
+        tab = cs.tables.region_table(tuple(a), tuple(map(tuple, cov)), pat, which)
         mean = np.zeros((c.size, 2))
         mean[:, which] = c
-        ref = cs._log_rect_prob(mean, cov, a, pat)
+        ref = cs.probability.log_region_probability(mean, cov, a, pat)
         ok = ref > -700  # where the exact function still resolves the probability
         np.testing.assert_allclose(tab(c)[ok], ref[ok], rtol=1e-11, atol=1e-10)
     # both received: per-trial functions of c_0, with c_1 = c_0 + d_b
@@ -727,16 +728,16 @@ def test_no_feedback_tables_match_the_exact_region_probability(t):
     c0 = rng.normal(rng.normal(0, 3, 6)[:, None], 2.0, (6, 300))
 
     def fn(b, x):
-        return cs._log_rect_prob(np.stack([x, x + d[b]], -1), C, a, pat)
+        return cs.probability.log_region_probability(np.stack([x, x + d[b]], -1), C, a, pat)
 
-    got = cs._interp_rows(fn, c0)
+    got = cs.tables.interp_rows(fn, c0)
     ref = fn(np.arange(6)[:, None], c0)
     np.testing.assert_allclose(got, ref, rtol=1e-11, atol=1e-10)
 
 
 def test_streams_are_pcg64_for_the_data_and_sfc64_for_the_filter():
     rng = np.random.default_rng(np.random.SeedSequence(3).spawn(1)[0])
-    data, pf = cs._streams(rng)
+    data, pf = cs.results.streams(rng)
     assert isinstance(data.bit_generator, np.random.PCG64)
     assert isinstance(pf.bit_generator, np.random.SFC64)
     again = np.random.default_rng(np.random.SeedSequence(3).spawn(1)[0]).spawn(2)[0]
@@ -749,8 +750,8 @@ def test_fast_log_inside_matches_the_careful_one():
     rng = np.random.default_rng(4)
     m = np.concatenate([rng.normal(0, 3, 20000), rng.uniform(-60, 60, 2000)]).reshape(-1, 11)
     for h in [rng.uniform(0.01, 4, (m.shape[0], 1)), 1.3, 1e-8]:
-        got = cs._log_inside_fast(m, h)
-        ref = cs._inside(m, np.broadcast_to(h, m.shape), log=True)
+        got = cs.probability.log_prob_inside(m, h)
+        ref = cs.probability.prob_inside(m, np.broadcast_to(h, m.shape), log=True)
         np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
 
 
@@ -767,3 +768,78 @@ def test_run_dispatches_part_iv_b_scenarios(module, cls):
     assert np.array_equal(a.mc.samples, b.mc.samples)
     with pytest.raises(ValueError, match="LinearScenario"):
         cs.run(object(), "cfwmd", **kw)
+
+
+# ----------------------------------------------------------------------------- tails (issue 17)
+def _mp_log_rect(l1, u1, l2, u2, rho, dps=30):
+    """``log P(l1 < X < u1, l2 < Y < u2)`` by mpmath: the integral of ``phi(x)`` times the
+    conditional interval probability of ``Y`` (reflected into the lower tail, no cancellation),
+    split at points clustered around the integrand's mode."""
+    mp = mpmath
+
+    with mp.workdps(dps):
+        r = mp.mpf(rho)
+        q = mp.sqrt(1 - r * r)
+
+        def f(x):
+            A = (l2 - r * x) / q if l2 != -np.inf else -mp.inf
+            B = (u2 - r * x) / q if u2 != np.inf else mp.inf
+            return mp.npdf(x) * (mp.ncdf(-A) - mp.ncdf(-B) if A > 0 else mp.ncdf(B) - mp.ncdf(A))
+
+        lo, hi = max(float(l1), -80.0), min(float(u1), 80.0)
+        grid = np.linspace(lo, hi, 201)
+        logs = [float(mp.log(f(mp.mpf(g)))) if f(mp.mpf(g)) > 0 else -np.inf for g in grid]
+        xm = grid[int(np.argmax(logs))]
+        off = np.concatenate([-np.geomspace(1e-4, 80, 30)[::-1], [0.0], np.geomspace(1e-4, 80, 30)])
+        pts = [mp.mpf(p) for p in sorted({float(np.clip(xm + o, lo, hi)) for o in off} | {lo, hi})]
+        pts = ([-mp.inf] if l1 == -np.inf else []) + pts + ([mp.inf] if u1 == np.inf else [])
+        return float(mp.log(mp.quad(f, pts)))
+
+
+def test_issue17_rectangle_examples():
+    """Inclusion-exclusion gave 0 and 2.2e-16 here (cancellation); the true values are tiny."""
+    p1 = cs.bivariate_rectangle(0, 1e-8, 0, 1e-8, 0)
+    assert p1 == pytest.approx(1e-16 / (2 * np.pi), rel=1e-10)  # phi(0)^2 times the area
+    p2 = cs.bivariate_rectangle(6, 6.001, -1, 1, 0.95)
+    assert p2 == pytest.approx(math.exp(_mp_log_rect(6, 6.001, -1, 1, 0.95)), rel=1e-10)
+    assert 9.8e-63 < p2 < 1.0e-62
+
+
+_TAIL_CASES = [
+    (-37, -36.7, -1.0, 2.0, 0.5), (10, np.inf, -1.0, 2.0, -0.95), (10, np.inf, 7.0, 10.1, 0.9),
+    (37, np.inf, -1.0, 2.0, 0.0), (-np.inf, -20, -np.inf, 0.0, 0.5),
+    (-np.inf, -37, -np.inf, -37, 0.99), (-np.inf, -8, -np.inf, -8, -0.95),
+    (-8, -7.7, -1.0, 2.0, 0.99), (0.5, 0.50000001, -3.0, 0.6, 0.0), (3.0, 3.3, 0.0, 3.1, -0.5),
+    (-1.0, 1.0, 25.0, 25.3, 0.9), (20.0, 20.3, 17.0, 20.1, 0.5), (-37, np.inf, -40.0, -36.9, -0.95),
+]
+
+
+@pytest.mark.parametrize("case", _TAIL_CASES)
+def test_bivariate_rectangle_is_relative_accurate_in_the_tails(case):
+    """Against mpmath, down to probabilities below 1e-300: relative error <= 1e-10 (the log
+    version; the linear one wherever it does not underflow)."""
+    ref = _mp_log_rect(*case)
+    got = float(cs.probability.log_bivariate_rectangle(*case))
+    assert abs(got - ref) <= 1e-10 * max(1.0, abs(ref) / 700), (got, ref)
+    if ref > -700:
+        lin = float(cs.bivariate_rectangle(*case))
+        assert lin == pytest.approx(math.exp(ref), rel=1e-10)
+    l1, u1, l2, u2, rho = case
+    if l1 == -np.inf and l2 == -np.inf and ref > -700:  # the CDF itself
+        assert float(cs.bivariate_normal_cdf(u1, u2, rho)) == pytest.approx(math.exp(ref),
+                                                                             rel=1e-10)
+
+
+def test_bivariate_rectangle_fast_path_unchanged_and_vectorized():
+    """Where the probability is not small the inclusion-exclusion is kept, value for value."""
+    rng = np.random.default_rng(4)
+    l1, l2 = rng.normal(0, 1, (2, 50))
+    u1, u2 = l1 + rng.uniform(0.5, 3, 50), l2 + rng.uniform(0.5, 3, 50)
+    rho = rng.uniform(-0.9, 0.9, 50)
+    got = cs.bivariate_rectangle(l1, u1, l2, u2, rho)
+    F = cs.probability._cdf_owen
+    ref = np.clip(F(u1, u2, rho) - F(l1, u2, rho) - F(u1, l2, rho) + F(l1, l2, rho), 0, 1)
+    big = ref >= cs.probability.CAREFUL_BELOW
+    assert big.sum() > 40 and np.array_equal(got[big], ref[big])
+    assert cs.bivariate_rectangle(1.0, 0.0, 0.0, 1.0, 0.0) == 0.0  # an empty rectangle
+    assert np.shape(cs.bivariate_rectangle(0.0, 1.0, 0.0, 1.0, 0.3)) == ()

@@ -150,7 +150,7 @@ def propagate_wna(x, dt, g, L):
 
 @numba.njit(cache=True, nogil=True)
 def table_shifted(coef, n_int, y, shift, scale, out):
-    """Interpolation table (:class:`fusioncenter.censoring._LogTable`, even) at
+    """Interpolation table (:class:`fusioncenter.censoring.tables.LogTable`, even) at
     ``|y[b, i] - shift[b]| * scale`` in units of the table's step: ``out[b, i]`` is the Horner
     polynomial of the interval's coefficients ``coef[j]`` at the fractional part. Points beyond
     the table or on an interval with a non-finite node get NaN (the caller evaluates the exact

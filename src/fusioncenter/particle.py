@@ -19,8 +19,8 @@ A model for :func:`run_filter` is any object with (see :class:`FilterModel`)
 * ``initial(rng, n, P) -> (n, P, d)`` -- draw the particles of the prior of ``x_0``;
 * ``transition(rng, t, x) -> (n, P, d)`` -- draw ``x_t`` given ``x_{t-1}`` for every particle;
 * ``log_weight(t, x) -> (n, P)`` -- the incremental log weight at time ``t`` (the log-likelihood
-  of the data received at ``t``; additive constants may be dropped), a fresh array (the loop
-  normalizes it in place);
+  of the data received at ``t``; additive constants may be dropped); the loop normalizes it in
+  place, so the model must not rely on its content afterwards (it may reuse the buffer);
 * ``observe(t, mean, cov)`` -- called after weighting with the filter's estimate ``E[x_t | data]``
   ``(n, d)`` and its covariance ``(n, d, d)``: this is where a fusion centre records its estimate
   and prepares what it feeds back to the sensors for time ``t + 1``. May do nothing;
@@ -407,7 +407,7 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
         if carried is not None:
             lw += carried
         mx = lw.max(axis=1)
-        if np.isnan(mx).any() or np.any(mx == np.inf):
+        if not np.isfinite(mx.sum()) and (np.isnan(mx).any() or np.any(mx == np.inf)):
             raise ValueError("log weights must not be NaN or +inf")
         dead = mx == -np.inf  # no particle compatible with the data: ignore them
         if dead.any():
@@ -417,8 +417,12 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
         w = np.exp(lw, out=lw)
         _kernels.weighted_moments(w, x, S, mean, ess_b)
         collapsed[:, t - 1] = dead
-        with np.errstate(divide="ignore"):
-            log_ev += np.where(dead, 0.0, mx + np.log(S) - offset)
+        inc = np.log(S)
+        inc += mx
+        inc -= offset
+        if dead.any():
+            inc[dead] = 0.0
+        log_ev += inc
         means[:, t - 1] = mean
         esss[:, t - 1] = ess_b
         cov = None
