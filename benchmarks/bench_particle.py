@@ -49,7 +49,7 @@ def _sensors(sc: cs.LinearScenario) -> list[KalmanFilter]:
 
 
 def _streams(sc: cs.LinearScenario, n: int, P: int, seed: int):
-    """The random numbers of ``censoring.run``'s first block (see ``censoring._chunk``)."""
+    """The random numbers of ``censoring.run``'s first block (see ``censoring.dispatch._chunk``)."""
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
     rng_data, rng_pf = rng.spawn(2)
     rng_pf = np.random.Generator(np.random.SFC64(rng_pf.bit_generator.seed_seq))
@@ -60,7 +60,7 @@ def _streams(sc: cs.LinearScenario, n: int, P: int, seed: int):
     # particles' noise then one uniform per trial
     noise = np.empty((sc.T, n, P, LQ.shape[1]))
     u = np.empty((sc.T, n))
-    for R in cs._sub_blocks(n, P):
+    for R in cs.fusion.sub_blocks(n, P):
         for t in range(sc.T):
             noise[t, R] = rng_pf.standard_normal((R.stop - R.start, P, LQ.shape[1]))
             u[t, R] = rng_pf.random(R.stop - R.start)

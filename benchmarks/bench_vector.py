@@ -59,13 +59,13 @@ def quadrature():
 
 
 def table():
-    return cv._log_silent_fixed((B[:, 0], B[:, 1]), A)
+    return cv.log_silent_table((B[:, 0], B[:, 1]), A)
 
 
 def per_trial_tables():
     b = B.reshape(4, 1024, 2)
     a = np.broadcast_to(A, (4, 2)).copy()
-    return cv._eval_silent(b, a)
+    return cv.eval_silent(b, a)
 
 
 def _block(sc, scheme, feedback, l, likelihood="exact"):

@@ -209,10 +209,10 @@ def test_tabulated_silent_terms_match_the_exact_ones():
         a = np.abs(rng.normal(0, rng.uniform(0.05, 12, (40, 1)), (40, P)))
         a[0] = np.linspace(0, 31, P)  # a whole range in one row
         h = rng.uniform(0.01, 9, 40)
-        got = cn._silent_terms(a, h)
+        got = cn.silent_terms(a, h)
         ref = cn.log_silent_probability(a, h[:, None])
         assert np.max(np.abs(got - ref)) < 1e-9
-    assert cn._silent_terms(np.empty((0, 5)), np.empty(0)).shape == (0, 5)
+    assert cn.silent_terms(np.empty((0, 5)), np.empty(0)).shape == (0, 5)
 
 
 @pytest.mark.parametrize("hx, hx_pred, s, l", [(3.0, 2.0, 1.7, 2), (10.0, 4.0, 5.0, 1),
@@ -266,7 +266,7 @@ def test_fc_decisions_and_weights_are_propositions_7_and_8(feedback):
     n, P = 4, 800
     _, z = SC.sample(rng, n)
     eta = cs.threshold(2, 9)
-    fc = cn._FusionCentre(SC, "cfwmd", feedback, eta, 2.0, z, rng.random(z.shape))
+    fc = cs.nonlinear._FusionCentre(SC, "cfwmd", feedback, eta, 2.0, z, rng.random(z.shape))
     x = SC.dynamics.initial(rng, n, P)
     P_loc = np.broadcast_to(SC.dynamics.P0, (n, 9, 4, 4)).copy()
     est, est_cov = np.broadcast_to(SC.dynamics.m0, (n, 4)).copy(), \
@@ -307,7 +307,7 @@ def test_no_feedback_decisions_use_the_local_ekfs():
     rng = np.random.default_rng(7)
     _, z = SC.sample(rng, 50)
     eta = cs.threshold(3, 9)
-    fc = cn._FusionCentre(SC, "cfomd", "none", eta, 3.0, z, rng.random(z.shape))
+    fc = cs.nonlinear._FusionCentre(SC, "cfomd", "none", eta, 3.0, z, rng.random(z.shape))
     loc = cn.local_ekf(SC, z)
     assert np.array_equal(fc.sent, loc["nu"] ** 2 >= eta * loc["s"])
     # the local innovations are roughly N(0, s): about l = 3 of 9 send (EKF approximation)

@@ -51,9 +51,12 @@ def test_systematic_resampling_kernel_equals_numpy(kind, P):
     _kernels.systematic_ancestors(w, S, u, np.ones(m, dtype=bool), anc)
     idx = _numpy_systematic(w, u)
     assert np.array_equal(anc, idx)
-    new_p = np.empty_like(p)
-    _kernels.take_rows(p, anc, new_p)
-    assert np.array_equal(new_p, np.take_along_axis(p, idx, axis=1))
+    for d in (1, 2, 5):  # the d = 2 case is written out in the kernel
+        x = rng.standard_normal((m, P, d))
+        for layout in (x, particle.by_component(x)):
+            new = np.empty_like(layout)
+            _kernels.take_rows(layout, anc, new)
+            assert np.array_equal(new, np.take_along_axis(x, idx[..., None], axis=1))
     # the ancestors are the library's systematic resampling (it normalizes the weights first:
     # the same counts up to rounding, exact when the mass is on one particle)
     if kind == "one":
@@ -89,15 +92,35 @@ def test_systematic_resampling_kernel_is_unbiased():
     assert np.array_equal(anc, np.sort(anc, axis=1))  # ancestors in order within a row
 
 
-def test_weighted_moments_kernel_equals_numpy():
+@pytest.mark.parametrize("d", [1, 2, 6])
+def test_weighted_moments_kernel_equals_numpy(d):
     rng = np.random.default_rng(5)
     m, P = 11, 777
     w = np.exp(2 * rng.standard_normal((m, P)))
-    p, v = rng.normal(100, 3, (2, m, P))
-    S, mp, mv, ess = np.empty((4, m))
-    _kernels.weighted_moments(w, p, v, S, mp, mv, ess)
+    x = rng.normal(100, 3, (m, P, d))
+    S, ess = np.empty((2, m))
+    mean = np.empty((m, d))
+    _kernels.weighted_moments(w, particle.by_component(x), S, mean, ess)
     np.testing.assert_allclose(S, w.sum(axis=1), rtol=1e-13)
-    np.testing.assert_allclose(mp, (w * p).sum(axis=1) / w.sum(axis=1), rtol=1e-13)
-    np.testing.assert_allclose(mv, (w * v).sum(axis=1) / w.sum(axis=1), rtol=1e-13)
-    np.testing.assert_allclose(ess, w.sum(axis=1) ** 2 / (w * w).sum(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(mean, particle.weighted_mean(x, np.log(w)), rtol=1e-13)
+    np.testing.assert_allclose(ess, particle.ess(np.log(w)), rtol=1e-12)
     assert np.array_equal(S, [np.cumsum(row)[-1] for row in w])  # sequential, as resampling
+
+
+@pytest.mark.parametrize("dt, k", [(1.0, 1), (0.5, 1), (0.25, 2), (1.0, 0)])
+def test_propagate_kernel_equals_numpy(dt, k):
+    """x F^T + g L^T for F = [[1, dt], [0, 1]], bit for bit the NumPy in-place arithmetic."""
+    rng = np.random.default_rng(6)
+    x = rng.standard_normal((4, 30, 2))
+    g = rng.standard_normal((4, 30, k))
+    L = rng.standard_normal((2, k))
+    p, v = x[..., 0].copy(), x[..., 1].copy()
+    p += v * dt
+    for j in range(k):
+        p += g[..., j] * L[0, j]
+        v += g[..., j] * L[1, j]
+    y = particle.by_component(x)
+    _kernels.propagate_wna(y, dt, g, L)
+    assert np.array_equal(y[..., 0], p) and np.array_equal(y[..., 1], v)
+    F = np.array([[1.0, dt], [0.0, 1.0]])
+    np.testing.assert_allclose(y, x @ F.T + g @ L.T, rtol=1e-13, atol=1e-13)

@@ -39,6 +39,7 @@ import numpy as np
 import scipy.stats
 
 from fusioncenter import censoring
+from fusioncenter._validate import posint as _posint
 from fusioncenter.figures.registry import Claim
 
 __all__ = [
@@ -144,7 +145,7 @@ def variance_ratio(sent, sent_se, l, N: int, dof: int = 1):
     ValueError
         If ``N`` is not a positive integer or ``l`` or ``sent`` lie outside ``(0, N)``.
     """
-    N = censoring._posint("N", N)
+    N = _posint("N", N)
     sent, sent_se, l = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in
                                              (sent, sent_se, l)))
     if np.any((l <= 0) | (l >= N)):
@@ -202,7 +203,7 @@ def bandwidth_table(data: Mapping, *, paper_trials: int, N: int, dof: int) -> di
     * ``v``, ``v_stderr`` (2, L): :func:`variance_ratio` of ours, ``v_printed`` of the printed;
     * ``n_trials``, ``paper_trials``, ``N``, ``dof``.
     """
-    paper_trials = censoring._posint("paper_trials", paper_trials)
+    paper_trials = _posint("paper_trials", paper_trials)
     if "cfwmd_transmissions" in data:  # zheng2014-table3
         ours = [data[f"{s}_transmissions"] for s in SCHEMES]
         se = [data[f"{s}_transmissions_stderr"] for s in SCHEMES]
@@ -218,7 +219,7 @@ def bandwidth_table(data: Mapping, *, paper_trials: int, N: int, dof: int) -> di
     else:
         raise ValueError("data must be the compute output of zheng2014-table1, -table2 or "
                          "-table3 (no 'cfwmd_transmissions' or 'paper_cfwmd' key)")
-    n = censoring._posint("n_trials", int(n))
+    n = _posint("n_trials", int(n))
     l = np.asarray(data["l"], dtype=float)
     ours, se, printed = (np.array(a, dtype=float) for a in (ours, se, printed))
     for name, arr in (("transmissions", ours), ("stderr", se), ("printed", printed)):

@@ -19,7 +19,8 @@ A model for :func:`run_filter` is any object with (see :class:`FilterModel`)
 * ``initial(rng, n, P) -> (n, P, d)`` -- draw the particles of the prior of ``x_0``;
 * ``transition(rng, t, x) -> (n, P, d)`` -- draw ``x_t`` given ``x_{t-1}`` for every particle;
 * ``log_weight(t, x) -> (n, P)`` -- the incremental log weight at time ``t`` (the log-likelihood
-  of the data received at ``t``; additive constants may be dropped);
+  of the data received at ``t``; additive constants may be dropped); the loop normalizes it in
+  place, so the model must not rely on its content afterwards (it may reuse the buffer);
 * ``observe(t, mean, cov)`` -- called after weighting with the filter's estimate ``E[x_t | data]``
   ``(n, d)`` and its covariance ``(n, d, d)``: this is where a fusion centre records its estimate
   and prepares what it feeds back to the sensors for time ``t + 1``. May do nothing;
@@ -42,11 +43,13 @@ Functions (signature, one line each):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
 
+from fusioncenter import _kernels
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 
@@ -58,6 +61,7 @@ __all__ = [
     "resample",
     "weighted_mean",
     "weighted_mean_cov",
+    "by_component",
     "psd_factor",
     "LinearGaussianDynamics",
     "FilterModel",
@@ -177,6 +181,28 @@ def weighted_mean_cov(x, logw) -> tuple[np.ndarray, np.ndarray]:
     cov = np.swapaxes(dev * w[..., None], -1, -2) @ dev
     cov = 0.5 * (cov + np.swapaxes(cov, -1, -2))
     return mean, cov
+
+
+def by_component(x) -> np.ndarray:
+    """The particles ``x (n, P, d)`` stored component by component, seen as ``(n, P, d)``.
+
+    Returns a view of a C-contiguous ``(n, d, P)`` copy: ``out[..., j]`` is then an ``(n, P)``
+    array with contiguous rows, which makes elementwise work on one component (a position, a
+    velocity) as fast as on a separate array. :func:`run_filter` keeps whatever layout the
+    model's ``initial`` returns (its resampling buffer is ``numpy.empty_like`` of the particles).
+
+    Parameters
+    ----------
+    x : array_like
+        Particles ``(n, P, d)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The same values ``(n, P, d)``, with strides ``(d P, 1, P)`` elements.
+    """
+    x = np.asarray(x, dtype=float)
+    return np.ascontiguousarray(np.swapaxes(x, 1, 2)).swapaxes(1, 2)
 
 
 # ----------------------------------------------------------------------------- dynamics
@@ -323,15 +349,45 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
                steps: int, *, ess_threshold: float = 1.0) -> FilterOutput:
     """The bootstrap particle filter (zheng2014 Algorithm 1, steps A1.3--A1.6) on ``n_trials``.
 
-    For ``t = 1..steps``: propagate every particle (``model.transition``), add
-    ``model.log_weight(t, x)``, normalize (log-sum-exp), estimate the mean and covariance, tell
-    the model (``model.observe``), then resample (systematic, one uniform per trial) the trials
-    whose ESS is at most ``ess_threshold * n_particles`` (``1.0``: every step whatever the ESS,
-    as Algorithm 1 does; ``0.0``: never). Resampling is :func:`systematic_counts` applied to every
-    trial's row at once, then one gather of the flattened particles. The uniforms are drawn at every
-    step for every trial whether used or not, so the random stream does not depend on the data.
+    The one sequential Monte Carlo loop of the library: every fusion centre is a model of it
+    (:class:`FilterModel`). For ``t = 1..steps``: propagate every particle
+    (``model.transition``), add ``model.log_weight(t, x)`` to the log weights, normalize, estimate
+    the mean (and the covariance if ``model.needs_cov``), tell the model (``model.observe``), then
+    resample (systematic, one uniform per trial) the trials whose ESS is at most
+    ``ess_threshold * n_particles`` (``1.0``: every step whatever the ESS, as Algorithm 1 does;
+    ``0.0``: never). The uniforms are drawn at every step for every trial whether used or not, so
+    the random stream does not depend on the data.
+
+    The hot pieces are compiled (:mod:`fusioncenter._kernels`): after subtracting each trial's
+    maximum log weight and exponentiating, one pass per trial gives the weight sum, the weighted
+    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more the
+    systematic-resampling ancestors (:func:`fusioncenter._kernels.systematic_ancestors`) and the
+    gather (:func:`fusioncenter._kernels.take_rows`). Everything is row by row: a trial's result
+    does not depend on the other trials of the batch. A trial whose weights are all zero (no
+    particle compatible with the data) keeps uniform weights for that step and is flagged in
+    :attr:`FilterOutput.collapsed`.
 
     Random-number order per step: ``model.transition`` draws first, then ``u (n_trials,)``.
+
+    Parameters
+    ----------
+    model : FilterModel
+        Initial law, transition, log weights and the estimate's consumer (see the module
+        docstring); ``model.dim`` is the state dimension ``d``.
+    rng : numpy.random.Generator
+        The filter's random stream (particles, resampling uniforms, whatever the model draws).
+    n_trials, n_particles : int
+        Independent trials ``n`` and particles per trial ``P`` (positive).
+    steps : int
+        Number of time steps (non-negative).
+    ess_threshold : float, optional
+        Resample a trial when its ESS is at most ``ess_threshold * n_particles``; in ``[0, 1]``.
+
+    Returns
+    -------
+    FilterOutput
+        Means ``(n, steps, d)``, covariances (NaN unless ``model.needs_cov``), ESS after
+        weighting, log evidence and the collapsed flags.
     """
     for name, value in (("n_trials", n_trials), ("n_particles", n_particles)):
         if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
@@ -347,43 +403,65 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
     esss = np.empty((n, steps))
     collapsed = np.zeros((n, steps), dtype=bool)
     log_ev = np.zeros(n)
-    x = model.initial(rng, n, P)
+    x = np.asarray(model.initial(rng, n, P))
+    if x.dtype != np.float64:
+        x = x.astype(float)
     if x.shape != (n, P, d):
         raise ValueError(f"model.initial returned shape {x.shape}, expected {(n, P, d)}")
-    logw = np.full((n, P), -np.log(P))  # normalized uniform
+    every_step = ess_threshold >= 1.0
+    # log weights carried over from the last step for the trials not resampled (normalized),
+    # 0 for the others; ``offset`` is log(sum of the carried weights) (log P after resampling)
+    carried = None if every_step else np.zeros((n, P))
+    offset = np.full(n, math.log(P))
+    S, ess_b = np.empty(n), np.empty(n)
+    mean = np.empty((n, d))
+    anc = np.empty((n, P), dtype=np.intp)
+    spare = np.empty_like(x)  # the same memory layout as x (see by_component)
+    all_rows = np.ones(n, dtype=bool)
     for t in range(1, steps + 1):
         x = model.transition(rng, t, x)
+        if x.shape != (n, P, d):
+            raise ValueError(f"model.transition returned shape {x.shape}, expected {(n, P, d)}")
         u = rng.random(n)
-        inc = np.asarray(model.log_weight(t, x), dtype=float)
-        if inc.shape != (n, P):
-            raise ValueError(f"model.log_weight returned shape {inc.shape}, expected {(n, P)}")
-        lw, lse = log_normalize(logw + inc)
-        dead = lse == -np.inf
+        lw = np.asarray(model.log_weight(t, x), dtype=float)
+        if not (lw.flags.writeable and lw.flags.owndata):
+            lw = lw.copy()  # normalized in place below
+        if lw.shape != (n, P):
+            raise ValueError(f"model.log_weight returned shape {lw.shape}, expected {(n, P)}")
+        if carried is not None:
+            lw += carried
+        mx = lw.max(axis=1)
+        if not np.isfinite(mx.sum()) and (np.isnan(mx).any() or np.any(mx == np.inf)):
+            raise ValueError("log weights must not be NaN or +inf")
+        dead = mx == -np.inf  # no particle compatible with the data: ignore them
+        if dead.any():
+            lw[dead] = 0.0
+            mx[dead] = 0.0
+        lw -= mx[:, None]
+        w = np.exp(lw, out=lw)
+        _kernels.weighted_moments(w, x, S, mean, ess_b)
         collapsed[:, t - 1] = dead
-        log_ev += np.where(dead, 0.0, lse)
-        w = np.exp(lw)
-        mean = (w[:, None, :] @ x)[:, 0, :]
+        inc = np.log(S)
+        inc += mx
+        inc -= offset
+        if dead.any():
+            inc[dead] = 0.0
+        log_ev += inc
         means[:, t - 1] = mean
+        esss[:, t - 1] = ess_b
+        cov = None
         if need_cov:
-            dt = np.swapaxes(x, -1, -2) - mean[:, :, None]  # (n, d, P), contiguous
-            cov = (dt * w[:, None, :]) @ np.swapaxes(dt, -1, -2)
+            dev = x - mean[:, None, :]
+            cov = np.swapaxes(dev * (w / S[:, None])[..., None], -1, -2) @ dev
             cov = 0.5 * (cov + np.swapaxes(cov, -1, -2))
             covs[:, t - 1] = cov
-        else:
-            cov = None
-        e = 1.0 / np.square(w).sum(axis=-1)
-        esss[:, t - 1] = e
-        model.observe(t, mean, cov)
-        todo = np.ones(n, dtype=bool) if ess_threshold >= 1.0 else e <= ess_threshold * P
-        if np.all(todo):
-            flat = _systematic_flat(w, u)
-            x = np.take(x.reshape(n * P, d), flat, axis=0).reshape(n, P, d)
-            logw = np.full((n, P), -np.log(P))
-        elif np.any(todo):
-            sub = x[todo]
-            flat = _systematic_flat(w[todo], u[todo])
-            x[todo] = np.take(sub.reshape(-1, d), flat, axis=0).reshape(sub.shape)
-            logw = np.where(todo[:, None], -np.log(P), lw)
-        else:
-            logw = lw
+        model.observe(t, mean.copy(), cov)
+        todo = all_rows if every_step else ess_b <= ess_threshold * P
+        if carried is not None:
+            with np.errstate(divide="ignore"):
+                carried = np.where(todo[:, None], 0.0, np.log(w / S[:, None]))
+            offset = np.where(todo, math.log(P), 0.0)
+        _kernels.systematic_ancestors(w, S, u, todo, anc)
+        _kernels.take_rows(x, anc, spare)
+        x, spare = spare, x
     return FilterOutput(mean=means, cov=covs, ess=esss, log_evidence=log_ev, collapsed=collapsed)

@@ -57,7 +57,6 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
-from scipy import special
 
 from fusioncenter import censoring, montecarlo, particle, riccati
 from fusioncenter._validate import finite as _finite
@@ -435,24 +434,11 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * _log_inside(mu, h)
+                out[rows] += n_sil[rows, None] * censoring.probability.log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):
         self.pred_mean = mean @ self.sc.F.T
-
-
-def _log_inside(m, h):
-    """``log P(|Z + m| < h)``, ``Z ~ N(0, 1)``: two ``ndtr`` where that is accurate, else the
-    careful :func:`fusioncenter.censoring.log_censored_probability`."""
-    m = np.abs(m)
-    pr = special.ndtr(h - m) - special.ndtr(-h - m)
-    bad = (pr < 1e-250) | (h < 1e-6)
-    with np.errstate(divide="ignore"):
-        out = np.log(pr)
-    if bad.any():
-        out[bad] = censoring.log_censored_probability(m[bad], h[bad] ** 2, 1.0, 1.0)
-    return out
 
 
 def _pf_chunk(rng, n, *, scenario, scheme, receiver, eta, outage, n_particles, channel):

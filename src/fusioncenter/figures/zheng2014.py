@@ -372,8 +372,8 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
     a, b = _fig2_runs(*args)
     gain, gse = [], []
     for ra, rb in zip(a, b, strict=True):
-        va, ia = cs._tavg_influence(ra, "position")
-        vb, ib = cs._tavg_influence(rb, "position")
+        va, ia = cs.results.tavg_influence(ra, "position")
+        vb, ib = cs.results.tavg_influence(rb, "position")
         # relative gain (va - vb) / va by the delta method, per trial
         g = (va - vb) / va
         infl = (ia - ib) / va - (va - vb) * ia / va**2

@@ -1,0 +1,448 @@
+"""The fusion-centre models of the linear scenario for :func:`fusioncenter.particle.run_filter`.
+
+:class:`LinearFusionCentre` (every scheme), :class:`ExactFusionCentre` (the exact no-feedback
+filter), and the pieces the vector and nonlinear models share (:class:`ReferenceFC`,
+:class:`FeedbackModel`, :class:`ExactModel`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from fusioncenter import _kernels, particle
+from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
+from fusioncenter.censoring.probability import (
+    log_prob_inside,
+    log_region_probability,
+    log_silent_constant,
+    truncated_normal,
+)
+from fusioncenter.censoring.scenarios import LinearScenario
+from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
+
+
+# ----------------------------------------------------------------------------- the fusion centre
+class ReferenceFC:
+    """What the reference FC models (:class:`fusioncenter.particle.FilterModel`, particles of
+    the target's state) share: the initial law and transition of the scenario ``self.sc``, and
+    the sensors' decisions that do not depend on the FC's broadcast."""
+
+    def initial(self, rng, n, P):
+        return self.sc.dynamics.initial(rng, n, P)
+
+    def transition(self, rng, t, x):
+        return self.sc.dynamics.transition(rng, t, x)
+
+    def _fixed_decisions(self, feedback: str, l: float, sel_u: np.ndarray) -> None:
+        """Fill ``self.sent`` where the decisions are known in advance: censoring without
+        feedback (``self._local_decisions()``), random selection, all-send."""
+        if self.censor and feedback == "none":
+            self._local_decisions()
+        elif self.scheme == "random":
+            self.sent[:] = sel_u < l / self.N
+        elif self.scheme == "all-send":
+            self.sent[:] = True
+
+
+class FeedbackModel(ReferenceFC):
+    """The FC's feedback of a linear target (``self.sc.feedback_moments``): the predicted mean
+    ``pred_mean (n, d)`` and covariance ``pred_cov (n, d, d)`` it broadcasts at every step."""
+
+    def _first_prediction(self, n: int) -> None:
+        """The broadcast of step 1: ``F x0`` and ``F P0 F^T + Q`` for every trial."""
+        dyn = self.sc.dynamics
+        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, dyn.dim)).copy()
+        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q,
+                                        (n, dyn.dim, dyn.dim)).copy()
+
+    def _cloud_moments(self, x: np.ndarray) -> None:
+        """``feedback_moments="particles"``: broadcast the mean and covariance of the propagated
+        particle cloud ``x (n, P, d)``."""
+        if self.sc.feedback_moments == "particles":
+            self.pred_mean = x.mean(axis=1)
+            dev = x - self.pred_mean[:, None, :]
+            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        if self.sc.feedback_moments == "analytic":
+            F, Q = self.sc.F, self.sc.Q
+            self.pred_mean = mean @ F.T
+            if cov is not None:
+                pc = F @ cov @ F.T + Q
+                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
+
+
+class ExactModel:
+    """What the exact no-feedback filters share: a particle is ``(x_t, xhat^1_{t|t-1}, ...,
+    xhat^N_{t|t-1})`` (``self.dim`` components, the state's first two), and a step where no
+    particle of a trial is consistent with who sent is relaxed and recorded in
+    ``self.relaxed (n, T)``."""
+
+    needs_cov = False
+
+    def initial(self, rng, n, P):
+        out = np.empty((n, P, self.dim))
+        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
+        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
+        return out
+
+    def _consistent(self, full: np.ndarray, ok: np.ndarray, k: int) -> np.ndarray:
+        """The log weights ``full (n, P)`` where ``ok`` (the particle explains who sent), ``-inf``
+        elsewhere; a trial with no such particle keeps ``full`` (the constraint relaxed)."""
+        w = np.where(ok, full, -np.inf)
+        dead = ~ok.any(axis=1)
+        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
+            w[dead] = full[dead]
+            self.relaxed[dead, k] = True
+        return w
+
+
+class ExactFusionCentre(ExactModel):
+    """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
+
+    Given a particle, a sensor's decision is deterministic in its measurement, so the weight is
+    exact: ``N(z^i; h^T x, r) 1{|z^i - h^T xhat^i| >= a_i}`` for a received ``z^i`` and
+    ``P(|h^T x + n - h^T xhat^j| < a_j)`` for a silent sensor. Before the next propagation each
+    particle runs the sensors' Kalman updates, with the received ``z^i`` or with a draw of the
+    missing ``z^j`` from ``N(h^T x, r)`` truncated to the silent interval (its exact conditional
+    law). As the number of particles grows this is the Bayes filter of the FC's data, which
+    Proposition 3 approximates. State dimension ``2 (N + 1)``; the estimate is its first two
+    components. If in a trial no particle satisfies the received sensors' constraints (rare: a
+    few per thousand trial-steps with 250 particles), that step uses the weights without those
+    indicators and is counted in ``relaxed`` (reported as ``CensoringResult.collapsed``).
+    """
+
+    def __init__(self, sc: LinearScenario, eta: float, z: np.ndarray, sent: np.ndarray):
+        self.sc, self.eta, self.z, self.sent = sc, eta, z, sent
+        self.relaxed = np.zeros(sent.shape[:2], dtype=bool)
+        N = self.N = sc.N
+        self.dim = 2 * (N + 1)
+        self.H, self.r, self.sd = sc.H, sc.rvec, np.sqrt(sc.rvec)
+        self.local = sc.local_filters()
+        self.a = np.sqrt(eta * self.local["s"])  # (T, N)
+        # flat layout of the local predictions (2N,): h^T xhat^i for every i, and the KF step
+        # xhat^i_{t+1|t} = F xhat^i + F w_t^i nu^i in matrix form (all stacked matmuls)
+        self.Hblk = np.zeros((2 * N, N))
+        for i in range(N):
+            self.Hblk[2 * i:2 * i + 2, i] = self.H[i]
+        self.Fblk = np.kron(np.eye(N), sc.F).T
+        self.G = np.zeros((self.local["gain"].shape[0], N, 2 * N))
+        for i in range(N):
+            self.G[:, i, 2 * i:2 * i + 2] = self.local["gain"][:, i] @ sc.F.T
+
+    def transition(self, rng, t, xa):
+        n, P, _ = xa.shape
+        out = np.empty_like(xa)
+        xh = xa[..., 2:]
+        if t > 1:  # the sensors' KF updates at t - 1, then their predictions for t
+            k = t - 2
+            hxh = xh @ self.Hblk  # (n, P, N)
+            mu = xa[..., :2] @ self.H.T  # E[z | x] per sensor
+            sent = np.broadcast_to(self.sent[:, k][:, None, :], hxh.shape)
+            zk = np.broadcast_to(self.z[:, k][:, None, :], hxh.shape).copy()
+            u = rng.random(hxh.shape)
+            sil = ~sent
+            if sil.any():
+                sd = np.broadcast_to(self.sd, hxh.shape)[sil]
+                c, m, a = hxh[sil], mu[sil], np.broadcast_to(self.a[k], hxh.shape)[sil]
+                zk[sil] = m + sd * truncated_normal(u[sil], (c - a - m) / sd, (c + a - m) / sd)
+            out[..., 2:] = xh @ self.Fblk + (zk - hxh) @ self.G[k]
+        else:
+            out[..., 2:] = xh
+        out[..., :2] = self.sc.dynamics.transition(rng, t, np.ascontiguousarray(xa[..., :2]))
+        return out
+
+    def log_weight(self, t, xa):
+        k = t - 1
+        hx = xa[..., :2] @ self.H.T
+        hxh = xa[..., 2:] @ self.Hblk
+        sent = self.sent[:, k][:, None, :]
+        z = self.z[:, k][:, None, :]
+        out = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, self.r), 0.0)
+        if not np.all(sent):
+            silent = np.broadcast_to(~sent, hx.shape)
+            out[silent] = log_prob_inside(((hx - hxh) / self.sd)[silent],
+                                           np.broadcast_to(self.a[k] / self.sd, hx.shape)[silent])
+        full = out.sum(axis=-1)
+        ok = (~sent | (np.abs(z - hxh) >= self.a[k])).all(axis=-1)  # (n, P)
+        return self._consistent(full, ok, k)
+
+    def observe(self, t, mean, cov):
+        pass
+#: Trials per sub-block of :class:`LinearFusionCentre`: about 32k particles, so that a sub-block's
+#: arrays stay in the core's cache while the ~40 array passes of a step run over them.
+_SUB_PARTICLES = 1 << 15
+
+
+def _local_decisions(sc: LinearScenario, eta: float, z: np.ndarray) -> np.ndarray:
+    """No feedback: every sensor runs its own KF; ``sent (n, T, N)`` from its innovations."""
+    loc = sc.local_filters()
+    F, H = sc.F, sc.H
+    n, T, N = z.shape
+    sent = np.empty((n, T, N), dtype=bool)
+    xhat = np.broadcast_to(F @ sc.dynamics.m0, (n, N, 2)).copy()
+    for t in range(T):
+        nu = z[:, t] - np.einsum("nik,ik->ni", xhat, H)
+        sent[:, t] = nu * nu >= eta * loc["s"][t]
+        xhat = (xhat + loc["gain"][t] * nu[..., None]) @ F.T
+    return sent
+
+
+def sub_blocks(n: int, P: int) -> list[slice]:
+    """The sub-blocks of a block of ``n`` trials with ``P`` particles: about
+    :data:`_SUB_PARTICLES` particles each (whole trials). The filter's random numbers are drawn
+    sub-block by sub-block, so this partition is part of what fixes them (with the seed,
+    ``n_trials``, ``block_size`` and ``n_particles``).
+
+    Parameters
+    ----------
+    n : int
+        Trials of the block.
+    P : int
+        Particles per trial.
+
+    Returns
+    -------
+    list of slice
+        Consecutive row ranges covering ``0..n``.
+    """
+    sub = max(1, _SUB_PARTICLES // P)
+    return [slice(s0, min(n, s0 + sub)) for s0 in range(0, n, sub)]
+
+
+class LinearFusionCentre:
+    """The FC of a :class:`LinearScenario` as a model of :func:`fusioncenter.particle.run_filter`
+    (every scheme except the exact no-feedback filter, :class:`ExactFusionCentre`).
+
+    A model for one block of trials (``z (n, T, N)``): it also plays the sensors, because with
+    feedback their decisions at step ``t`` depend on what the FC broadcast after step ``t - 1``.
+    Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
+
+    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna`);
+    * the silent factor with state feedback is the interpolation table :func:`silent_table`
+      (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
+      corrected Proposition 3 with one sensor received (:func:`region_table`) and, per trial,
+      with both received (:func:`interp_rows`); CFwMD2's factor (``h`` differs per trial) uses
+      two ``ndtr`` per particle;
+    * additive constants of a trial's log weights are dropped, and the covariance is computed
+      (by the loop) only when CFwMD2 feeds it back.
+
+    :func:`run` gives the loop sub-blocks of about 32k particles (whole trials,
+    :func:`sub_blocks`), one model each, so that the ~40 array passes of a step work on data
+    in the core's cache.
+
+    Parameters
+    ----------
+    sc : LinearScenario
+        The model.
+    scheme, feedback, likelihood : str
+        As in :func:`run`.
+    eta : float
+        Censoring threshold.
+    l : float
+        Average number of sending sensors (random selection sends with probability ``l / N``).
+    z : numpy.ndarray
+        Measurements ``(n, T, N)``.
+    sel_u : numpy.ndarray
+        Random-selection uniforms ``(n, T, N)``.
+    """
+
+    dim = 2
+
+    def __init__(self, sc: LinearScenario, scheme: str, feedback: str, likelihood: str,
+                 eta: float, l: float, z: np.ndarray, sel_u: np.ndarray):
+        self.sc, self.scheme, self.feedback, self.likelihood = sc, scheme, feedback, likelihood
+        self.eta = eta
+        self.z = z
+        n, T, N = z.shape
+        self.n, self.T, self.N = n, T, N
+        self.H, self.r = sc.H, sc.rvec
+        self.groups = sc.sensor_groups()
+        self.local = sc.local_filters()
+        dyn = sc.dynamics
+        self.dt = float(dyn.F[0, 1])
+        self.LQ = particle.psd_factor(dyn.Q)
+        self.censor = scheme in ("cfomd", "cfwmd")
+        self.fb = self.censor and feedback != "none"
+        self.analytic = sc.feedback_moments == "analytic"
+        self.need_cov = self.fb and feedback == "state+cov" and self.analytic
+        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
+        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
+        if self.censor and feedback == "none":
+            self.sent = _local_decisions(sc, eta, z)
+        elif scheme == "random":
+            self.sent = sel_u < l / N
+        elif scheme == "all-send":
+            self.sent = np.ones((n, T, N), dtype=bool)
+        else:
+            self.sent = np.zeros((n, T, N), dtype=bool)
+        self.nf_region = scheme == "cfwmd" and feedback == "none"
+        self.needs_cov = self.need_cov
+        self._tmp = np.empty((n, 0))
+        self._g = np.empty((n, 0, 0))
+
+    # --- the sensors' decisions at step k = t - 1 (feedback)
+    def _decide(self, k: int, pos, vel) -> np.ndarray | None:
+        if not self.analytic:  # moments of the propagated cloud
+            P = pos.shape[1]
+            mp, mv = pos.mean(axis=1), vel.mean(axis=1)
+            self.pred_mean[:, 0], self.pred_mean[:, 1] = mp, mv
+            if self.feedback == "state+cov":
+                dp, dv = pos - mp[:, None], vel - mv[:, None]
+                cpp, cpv, cvv = ((dp * dp).sum(1) / P, (dp * dv).sum(1) / P,
+                                 (dv * dv).sum(1) / P)
+                self.pred_cov = np.stack([np.stack([cpp, cpv], -1),
+                                             np.stack([cpv, cvv], -1)], -2)
+        if self.feedback == "state+cov":
+            s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
+        else:
+            s = self.local["s"][k]
+        nu = self.z[:, k] - self.pred_mean @ self.H.T
+        self.sent[:, k] = nu * nu >= self.eta * s
+        return s
+
+    # --- log weights at step k (additive per-row constants dropped)
+    def _log_weight(self, k: int, pos, vel, lw, tmp) -> None:
+        s = self._decide(k, pos, vel) if self.fb else None
+        sent, z = self.sent[:, k], self.z[:, k]
+        ys = {}
+        started = False  # lw holds a value (the first term is written, not added)
+        for g in self.groups:
+            hg, rg = self.H[g[0]], float(self.r[g[0]])
+            if hg[0] == 1.0 and hg[1] == 0.0:
+                y = pos
+            else:
+                y = hg[0] * pos + hg[1] * vel
+            ys[int(g[0])] = y
+            sg = sent[:, g]
+            n_obs = sg.sum(axis=1)
+            if n_obs.any():
+                # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
+                # a constant per trial (centred: no cancellation however large the positions)
+                zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
+                dst = tmp if started else lw
+                np.subtract(y, zbar[:, None], out=dst)
+                np.square(dst, out=dst)
+                dst *= (-0.5 / rg * n_obs)[:, None]
+                if started:
+                    lw += tmp
+                started = True
+            if self.scheme != "cfwmd" or not self.fb:
+                continue
+            n_sil = len(g) - n_obs
+            rows = np.flatnonzero(n_sil)
+            if rows.size == 0:
+                continue
+            sd = math.sqrt(rg)
+            hp = self.pred_mean @ hg
+            # most trials have a silent sensor: evaluate every row (no fancy indexing) and
+            # zero the others, unless few rows need it
+            every = 2 * rows.size >= n_sil.size
+            if self.feedback == "state+cov":  # h differs per trial
+                mu = np.subtract(y, hp[:, None], out=tmp) if every else y[rows] - hp[rows, None]
+                mu *= 1.0 / sd
+                hh = np.sqrt(self.eta * s[rows if not every else slice(None), g[0]]) / sd
+                with np.errstate(invalid="ignore"):
+                    val = log_prob_inside(mu, hh[:, None])
+            else:
+                table = silent_table(math.sqrt(self.eta * s[g[0]]) / sd)
+                if every:
+                    val = table.shifted(y, hp, 1.0 / sd, tmp)
+                else:  # the same arithmetic on the rows that need it
+                    val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
+            ns = n_sil if every else n_sil[rows]
+            if every and not ns.all():
+                val[ns == 0] = 0.0
+            if np.any(ns > 1):
+                val *= ns[:, None]
+            if not started:
+                lw.fill(0.0)
+                started = True
+            if every:
+                lw += val
+            else:
+                lw[rows] += val
+        if not started:
+            lw.fill(0.0)
+        if self.nf_region:
+            self._region_term(k, sent, z, ys, lw)
+
+    def _region_term(self, k, sent, z, ys, lw) -> None:
+        """Proposition 3 (printed or corrected) for rows of a sub-block, pattern by pattern."""
+        C, r, eta, N = self.local["C"][k], self.r, self.eta, self.N
+        gid = {int(i): int(g[0]) for g in self.groups for i in g}
+        if self.likelihood == "printed":  # a constant per trial: cheap through the generic code
+            lw += no_feedback_region(sent, z, np.zeros((sent.shape[0], 1, N)), C, r, eta,
+                                      "printed")
+            return
+        s_ = np.diag(C) + r
+        a = np.sqrt(eta * s_)
+        for pat in np.unique(sent, axis=0):
+            rows = np.flatnonzero(np.all(sent == pat, axis=-1))
+            cov = C + np.diag(np.where(pat, 0.0, r))
+            recv = np.flatnonzero(pat)
+            if recv.size == 0:
+                lw[rows] += log_silent_constant(cov, a)
+            elif N == 2 and abs(cov[0, 1]) >= (1 - 1e-9) * math.sqrt(cov[0, 0] * cov[1, 1]):
+                # degenerate law (k = 1 with x_0 known: identical local predictions): the
+                # region probability has kinks, which the tables would smooth; exact
+                hx = np.stack([ys[gid[i]][rows] for i in range(N)], axis=-1)
+                mean = np.where(pat, z[rows][:, None, :] - hx, 0.0)
+                lw[rows] += log_region_probability(mean, cov, a, pat)
+            elif recv.size == 1:
+                i = int(recv[0])
+                tab = region_table(tuple(a.tolist()), tuple(map(tuple, cov.tolist())),
+                                    tuple(bool(p) for p in pat), i)
+                c = z[rows, i][:, None] - ys[gid[i]][rows]
+                lw[rows] += tab(c)
+            elif len(self.groups) == 1 or np.all(self.H == self.H[0]):
+                # both received, one projection y = h^T x: per trial a function of
+                # c_0 = z_0 - y (c_1 = c_0 + z_1 - z_0), interpolated from exact values
+                d = z[rows, 1] - z[rows, 0]
+
+                def fn(b, c0, d=d, cov=cov, pat=pat):
+                    return log_region_probability(np.stack([c0, c0 + d[b]], axis=-1), cov, a, pat)
+
+                lw[rows] += interp_rows(fn, z[rows, 0][:, None] - ys[gid[0]][rows])
+            else:
+                hx = np.stack([ys[gid[i]][rows] for i in range(N)], axis=-1)
+                mean = np.where(pat, z[rows][:, None, :] - hx, 0.0)
+                lw[rows] += log_region_probability(mean, cov, a, pat)
+
+    # --- FilterModel
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
+        """``(n, P, 2)`` draws of ``x_0`` (:meth:`LinearGaussianDynamics.initial`), stored
+        component by component (:func:`fusioncenter.particle.by_component`)."""
+        return particle.by_component(self.sc.dynamics.initial(rng, n, P))
+
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
+        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``."""
+        shape = (*x.shape[:2], self.LQ.shape[1])
+        if self._g.shape != shape:
+            self._g = np.empty(shape)
+        if shape[2]:
+            rng.standard_normal(out=self._g)
+        _kernels.propagate_wna(x, self.dt, self._g, self.LQ)
+        return x
+
+    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
+        """A1.4: the log-likelihood of what the FC received at ``t`` (per-trial constants
+        dropped), ``(n, P)``."""
+        if self._tmp.shape != x.shape[:2]:
+            self._tmp = np.empty(x.shape[:2])
+            self._lw = np.empty(x.shape[:2])
+        lw = self._lw  # the loop normalizes it in place; rewritten at every step
+        self._log_weight(t - 1, x[..., 0], x[..., 1], lw, self._tmp)
+        return lw
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        """What is fed back at ``t + 1`` (``feedback_moments="analytic"``): ``F mean`` and
+        ``F cov F^T + Q``."""
+        if self.analytic:
+            self.pred_mean[:, 0] = mean[:, 0] + self.dt * mean[:, 1]
+            self.pred_mean[:, 1] = mean[:, 1]
+            if self.need_cov:
+                F, Q = self.sc.F, self.sc.Q
+                pc = F @ cov @ F.T + Q
+                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))

@@ -1,0 +1,306 @@
+"""The scenarios of zheng2014 Part IV: the :class:`Scenario` base (the target's law and the
+simulation of its trajectories) and the linear model of Section VII.A (:class:`LinearScenario`),
+with the helpers the vector and nonlinear scenarios share."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fusioncenter import particle
+from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import posint as _posint
+from fusioncenter._validate import positive as _positive
+
+#: Schemes of :func:`run`: every sensor sends; each sends independently with probability
+#: ``l / N`` (missing completely at random); NIS censoring with the silent sensors dropped
+#: (CFoMD); NIS censoring with the full likelihood (CFwMD).
+SCHEMES = ("all-send", "random", "cfomd", "cfwmd")
+#: What the FC broadcasts at the start of each step: its predicted state (CFwMD, Propositions 1),
+#: predicted state and covariance (CFwMD2, Proposition 2), or nothing (Proposition 3).
+FEEDBACK = ("state", "state+cov", "none")
+#: How ``scheme="cfwmd"`` fuses without feedback: Proposition 3 ``"corrected"`` or as
+#: ``"printed"`` (both under the paper's law (21) for the local predictions), or ``"exact"``: the
+#: particles also carry every sensor's local prediction, which makes the likelihood exact.
+LIKELIHOODS = ("corrected", "printed", "exact")
+
+
+# ----------------------------------------------------------------------------- the scenario
+def _as_tuple(value):
+    arr = np.asarray(value, dtype=float)
+    return float(arr) if arr.ndim == 0 else tuple(np.asarray(arr).tolist())
+
+
+def nested_tuple(arr: np.ndarray):
+    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
+    return tuple(nested_tuple(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
+
+
+def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
+    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
+    return (np.array([[1.0, dt], [0.0, 1.0]]),
+            np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
+
+
+def target_dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
+    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``)."""
+    try:
+        return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
+    except ValueError as err:
+        raise ValueError(f"P0: {err}") from None
+
+
+def check_x0_pair(value) -> np.ndarray:
+    x0 = _finite("x0", value)
+    if x0.shape != (2,):
+        raise ValueError(f"x0 must be a [position, velocity] pair, got {value!r}")
+    return x0
+
+
+def check_feedback_moments(value) -> None:
+    if value not in ("analytic", "particles"):
+        raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
+
+
+def time_axis_choice(T: int) -> str:
+    return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
+            "transmissions are reported for t = 1..T")
+
+
+#: The choices of :attr:`LinearScenario.choices` that every scenario shares (the schemes and the
+#: particle filter).
+SCHEME_CHOICES = {
+    "random selection": "each sensor sends independently with probability l/N",
+    "all-send": "every sensor sends at every step (l is ignored)",
+    "CFoMD": "same censoring as CFwMD (and the same feedback), silent sensors dropped",
+    "resampling": "systematic, at every step (A1.6); the estimate is the weighted mean "
+                  "before resampling (A1.5)",
+}
+
+
+def local_error_recursion(sc, update) -> None:
+    """The covariance ``Sigma`` of the joint prediction errors ``(e^1, ..., e^N)`` of the
+    sensors' own Kalman filters (eqs. (21)-(23)) of a linear scenario ``sc``, step by step.
+
+    From ``Sigma_{0|0} = 1 1^T (x) P0``, for ``t = 0..T-1``: ``Sigma_{t+1|t} = (I (x) F)
+    Sigma_{t|t} (I (x) F)^T + 1 1^T (x) Q``; ``update(t, Sigma_{t+1|t})`` records what it needs
+    and returns ``(A, W)`` (``2N x 2N``, block diagonal: ``I - w^i h_i^T`` and the gain times the
+    noise covariance times the gain transposed), and ``Sigma_{t+1|t+1} = A Sigma A^T + W``. Both
+    covariances are symmetrized.
+    """
+    N = sc.N
+    ones = np.ones((N, N))
+    Sig = np.kron(ones, sc.dynamics.P0)
+    IF = np.kron(np.eye(N), sc.F)
+    for t in range(sc.T):
+        Sig = IF @ Sig @ IF.T + np.kron(ones, sc.Q)
+        Sig = 0.5 * (Sig + Sig.T)
+        A, W = update(t, Sig)
+        Sig = A @ Sig @ A.T + W
+        Sig = 0.5 * (Sig + Sig.T)
+
+
+class Scenario:
+    """What the scenarios (:class:`LinearScenario`, ``censoring_vector.VectorScenario``,
+    ``censoring_nonlinear.NonlinearScenario``: frozen dataclasses keeping their
+    :class:`fusioncenter.particle.LinearGaussianDynamics` in ``_cache["dynamics"]``) share: the
+    target's law, and the simulation of the true trajectories."""
+
+    position_index = (0,)
+    velocity_index = (1,)
+
+    @property
+    def dynamics(self) -> particle.LinearGaussianDynamics:
+        """Initial law and transition (for the PF and for simulating the truth)."""
+        return self._cache["dynamics"]
+
+    @property
+    def d(self) -> int:
+        """Dimension of the state."""
+        return self.dynamics.dim
+
+    @property
+    def F(self) -> np.ndarray:
+        return self.dynamics.F
+
+    @property
+    def Q(self) -> np.ndarray:
+        return self.dynamics.Q
+
+    def _truth(self, rng: np.random.Generator, n: int, *, draw_x0: bool = True) -> np.ndarray:
+        """True trajectories ``x (n, T+1, d)`` of ``n`` trials: draws ``x_0`` (else ``x_0`` is
+        the prior mean), then ``T`` transitions."""
+        dyn = self.dynamics
+        x = np.empty((n, self.T + 1, self.d))
+        if draw_x0:
+            x[:, 0] = dyn.initial(rng, n, 1)[:, 0]
+        else:
+            x[:, 0] = dyn.m0
+        for t in range(1, self.T + 1):
+            x[:, t] = dyn.transition(rng, t, x[:, t - 1])
+        return x
+
+
+@dataclass(frozen=True)
+class LinearScenario(Scenario):
+    """The linear tracking model of zheng2014 Section VII.A (scalar observations).
+
+    ``x_k = [position, velocity]``, ``x_{k+1} = F x_k + u_k``, ``F = [[1, dt], [0, 1]]``,
+    ``Q = sigma2 [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]`` (white-noise acceleration; rank one);
+    ``N`` sensors ``z_k^i = h_i^T x_k + n_k^i``, ``n^i ~ N(0, r_i)``, ``h = [1, 0]``.
+
+    Paper values (the defaults): ``N = 2`` (Figs. 1, 3; ``N = 4`` for Fig. 2 and Table I),
+    ``r = 1``, ``sigma2 = 4``, ``dt = 1``, ``x0 = [0, 10]``, ``T = 20`` steps, ``N_s = 1000``
+    particles, 5000 trials. Every field can be overridden (``dataclasses.replace`` or keywords):
+
+    * ``r``: one variance for every sensor or one per sensor; ``h``: one measurement vector for
+      every sensor, or one row per sensor (shape ``(N, 2)``);
+    * ``P0``: covariance of ``x_0`` (``None``: zero, ``x_0 = x0`` known);
+    * ``feedback_moments``: how the FC forms what it feeds back, ``"analytic"`` (default:
+      ``xhat_{k|k-1} = F xhat_{k-1|k-1}``, ``P_{k|k-1} = F P_{k-1|k-1} F^T + Q`` from the weighted
+      particle mean and covariance at ``k-1``) or ``"particles"`` (mean and covariance of the
+      propagated particle cloud; requires resampling at every step).
+
+    The choices the paper leaves open are listed, with the value used, in :attr:`choices`.
+    """
+
+    N: int = 2
+    r: float | tuple = 1.0
+    sigma2: float = 4.0
+    T: int = 20
+    x0: tuple = (0.0, 10.0)
+    dt: float = 1.0
+    h: tuple = (1.0, 0.0)
+    P0: tuple | None = None
+    feedback_moments: str = "analytic"
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        N = _posint("N", self.N)
+        _posint("T", self.T)
+        dt = float(_positive("dt", self.dt))
+        sigma2 = float(_positive("sigma2", self.sigma2))
+        r = _positive("r", self.r)
+        if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
+            raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "
+                             f"got shape {r.shape}")
+        x0 = check_x0_pair(self.x0)
+        h = _finite("h", self.h)
+        if h.shape not in ((2,), (N, 2)) or np.any(np.all(h.reshape(-1, 2) == 0, axis=-1)):
+            raise ValueError(f"h must be a non-zero vector (2,) or one per sensor ({N}, 2), "
+                             f"got {self.h!r}")
+        check_feedback_moments(self.feedback_moments)
+        P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
+        F, q = wna_model(dt)
+        dyn = target_dynamics(F, sigma2 * q, x0, P0)  # validates P0
+        object.__setattr__(self, "N", N)
+        object.__setattr__(self, "T", int(self.T))
+        object.__setattr__(self, "r", _as_tuple(r))
+        object.__setattr__(self, "h", _as_tuple(h) if h.ndim == 1 else nested_tuple(h))
+        object.__setattr__(self, "x0", _as_tuple(x0))
+        if self.P0 is not None:
+            object.__setattr__(self, "P0", nested_tuple(P0))
+        self._cache["dynamics"] = dyn
+
+    # --- model pieces (dynamics, d, F, Q: see Scenario)
+    @property
+    def H(self) -> np.ndarray:
+        """Measurement vectors, one row per sensor ``(N, 2)``."""
+        return np.broadcast_to(np.asarray(self.h, dtype=float), (self.N, 2)).copy()
+
+    @property
+    def rvec(self) -> np.ndarray:
+        """Measurement-noise variances ``(N,)``."""
+        return np.broadcast_to(np.asarray(self.r, dtype=float), (self.N,)).copy()
+
+    @property
+    def choices(self) -> dict[str, str]:
+        """Every choice the paper leaves open, with the value this scenario uses."""
+        P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
+        return {
+            "time axis": time_axis_choice(self.T),
+            "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0} (the paper: the "
+                             "initial state 'is chosen to be [0 10]')",
+            "PF prior": "particles at t = 0 drawn from N(x0, P0): all equal to x0 when P0 = 0",
+            "local Kalman filters": "every sensor's KF starts from (x0, P0) and uses all of its "
+                                    "own measurements (censoring only decides what is sent); "
+                                    "its covariance recursion is data-independent, so the FC "
+                                    "knows every s_k^i (Remark 1 (I))",
+            "initial cross-covariance": "P^{ij}_{0|0} = P0 (all sensors start from the same x0; "
+                                        "the paper's P^{ij}_{0|0} = 0 is this with P0 = 0)",
+            "feedback 'state'": "x_hat_{k|k-1} broadcast at the start of step k; sensors use it in "
+                                "the innovation but normalize by their own s_k^i = r + h^T "
+                                "P^i_{k|k-1} h (Remark 1 (III))",
+            "feedback 'state+cov'": "also P_hat_{k|k-1}; sensors and FC use s'^i_k = r + h^T "
+                                    "P_hat_{k|k-1} h (Proposition 2, 'CFwMD2')",
+            "feedback moments": (
+                "analytic: x_hat_{k|k-1} = F x_hat_{k-1|k-1}, P_hat_{k|k-1} = F P_hat_{k-1|k-1} "
+                "F^T + Q, from the weighted particle mean and covariance at k-1 (before "
+                "resampling); x_hat_{1|0} = F x0, P_hat_{1|0} = F P0 F^T + Q"
+                if self.feedback_moments == "analytic" else
+                "particles: mean and covariance of the propagated particle cloud at step k"),
+            "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
+                         "(eq. (8))",
+            **SCHEME_CHOICES,
+            "no-feedback likelihood": "'corrected' (default) or 'printed' Proposition 3, both with "
+                                      "the paper's law (21)-(23) for the local predictions, or "
+                                      "'exact' (particles carry the local predictions)",
+        }
+
+    def sample(self, rng: np.random.Generator, n: int):
+        """Truth and measurements of ``n`` trials: ``x (n, T+1, 2)`` (``x[:, 0] = x_0``), ``z (n,
+        T, N)`` (``z[:, t-1]`` measured at time ``t``). Draws ``x_0``, then ``T`` transitions,
+        then all measurement noises."""
+        x = self._truth(rng, n)
+        noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
+        z = x[:, 1:] @ self.H.T + noise
+        return x, z
+
+    def local_filters(self) -> dict[str, np.ndarray]:
+        """Data-independent quantities of the sensors' own Kalman filters, ``t = 1..T``.
+
+        ``P_pred (T, N, 2, 2)``: ``P^i_{t|t-1}``; ``gain (T, N, 2)``: ``w_t^i``;
+        ``s (T, N)``: ``s_t^i``; ``C (T, N, N)``: covariance of the local prediction errors in
+        measurement space, ``h_i^T Sigma^{ij}_{t|t-1} h_j`` (eqs. (21)-(23); diagonal
+        ``s_t^i - r_i``). Computed on the joint error vector ``(e^1, ..., e^N)``
+        (:func:`local_error_recursion`): ``Sigma_{t|t} = A Sigma_{t|t-1} A^T +
+        blockdiag(w r w^T)`` with ``A = blockdiag(I - w^i h_i^T)``.
+        """
+        if "local" in self._cache:
+            return self._cache["local"]
+        N, T = self.N, self.T
+        H, r = self.H, self.rvec
+        P_pred = np.empty((T, N, 2, 2))
+        gain = np.empty((T, N, 2))
+        s = np.empty((T, N))
+        Cm = np.empty((T, N, N))
+        Hblk = np.zeros((N, 2 * N))
+        for i in range(N):
+            Hblk[i, 2 * i:2 * i + 2] = H[i]
+
+        def update(t, Sig):
+            A = np.zeros((2 * N, 2 * N))
+            W = np.zeros((2 * N, 2 * N))
+            for i in range(N):
+                Pi = Sig[2 * i:2 * i + 2, 2 * i:2 * i + 2]
+                P_pred[t, i] = Pi
+                s[t, i] = H[i] @ Pi @ H[i] + r[i]
+                w = Pi @ H[i] / s[t, i]
+                gain[t, i] = w
+                A[2 * i:2 * i + 2, 2 * i:2 * i + 2] = np.eye(2) - np.outer(w, H[i])
+                W[2 * i:2 * i + 2, 2 * i:2 * i + 2] = r[i] * np.outer(w, w)
+            Cm[t] = Hblk @ Sig @ Hblk.T
+            return A, W
+
+        local_error_recursion(self, update)
+        out = {"P_pred": P_pred, "gain": gain, "s": s, "C": Cm}
+        self._cache["local"] = out
+        return out
+
+    def sensor_groups(self) -> list[np.ndarray]:
+        """Indices of sensors with identical ``(h_i, r_i)`` (they share every likelihood term)."""
+        key = np.concatenate([self.H, self.rvec[:, None]], axis=1)
+        _, inv = np.unique(key, axis=0, return_inverse=True)
+        return [np.flatnonzero(inv.ravel() == g) for g in range(inv.max() + 1)]
