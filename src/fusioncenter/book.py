@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 from fusioncenter import figures, plotting
+from fusioncenter.glue import glue
 from fusioncenter.profile import ENV_VAR, current_profile
+
+__all__ = ["glue", "reproduce", "setup"]
 
 
 def _inline_figures() -> None:
