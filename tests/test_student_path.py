@@ -195,7 +195,8 @@ def test_reader_notebook_resolves_myst_for_plain_jupyter():
                  "$$\nx = 1\n$$\n"):
         assert want in text, want
     assert "(sec-x)=" not in text and "{" not in text.replace("\\mathbb{E}", "")
-    assert refs["source"] == "## References\n\n- entry of mo2015\n- entry of dey2009"
+    assert refs["source"] == ("## Works cited in this chapter\n\n"
+                              "- entry of mo2015\n- entry of dey2009")
 
 
 def test_reader_notebook_reports_what_it_cannot_resolve():

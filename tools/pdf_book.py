@@ -38,6 +38,8 @@ PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14m
 PRINT_CSS = """
 @page { size: A4; }
 html, body { font-size: 10.5pt !important; }
+*, *::before, *::after { animation: none !important; transition: none !important;
+  box-shadow: none !important; text-shadow: none !important; }
 .bd-header, .bd-sidebar-primary, .bd-sidebar-secondary, .bd-header-article, .bd-footer,
 .bd-footer-article, .prev-next-area, .header-article-items, .bd-search, #pst-back-to-top,
 .headerlink, .toggle-details__summary .tb-icon, .copybtn { display: none !important; }
@@ -52,11 +54,14 @@ pre, .highlight pre, .output pre, .cell_output pre, div.highlight {
 .math-wrapper, div.math, mjx-container { overflow: visible !important;
   max-height: none !important; }
 mjx-container[display="true"] { max-width: 100% !important; }
-table { font-size: 8pt !important; table-layout: auto; word-break: break-word; }
+table { font-size: 8pt !important; table-layout: auto; }
+td, th { word-break: normal !important; overflow-wrap: break-word !important;
+  hyphens: auto; }
 img { max-width: 100% !important; height: auto !important; page-break-inside: avoid;
       break-inside: avoid; }
 h1, h2, h3 { break-after: avoid; }
-details > *:not(summary) { display: block !important; }
+details > *:not(summary) { display: block !important; opacity: 1 !important; }
+details.hide > summary { display: none !important; }
 .cell_output img { display: block; margin: 0 auto; }
 """
 
@@ -218,12 +223,13 @@ def build_pdf(site: Path, out: Path) -> dict:
         parent = None
         if part:
             if part not in parts:
-                parts[part] = writer.add_outline_item(part, first)
+                parts[part] = writer.add_outline_item(title=part, page_number=first)
             parent = parts[part]
-        writer.add_outline_item(title, first, parent=parent)
+        writer.add_outline_item(title=title, page_number=first, parent=parent)
         assert first + 1 == start
     for i, p in enumerate(writer.pages):
         p.merge_page(numbers.pages[i])
+        p.compress_content_streams()
     writer.add_metadata({"/Title": cfg["title"], "/Author": cfg.get("author", "")})
     writer.compress_identical_objects()
     out.parent.mkdir(parents=True, exist_ok=True)

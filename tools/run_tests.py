@@ -8,8 +8,8 @@ Stages, in order (all run; the exit code is 1 if any failed):
 4. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
 5. site        pytest on the built site: no external resources, headless-Chromium check, the PDF
 
-With the library stage: ``pythons``, the library's tests on Python 3.12 and 3.13
-(tools/test_pythons.py). After the site build: ``pdf`` prints the fast site as one PDF
+With the library stage: ``pythons``, the library's tests on Python 3.12 (tools/test_pythons.py;
+``make test-pythons`` adds 3.13). After the site build: ``pdf`` prints the fast site as one PDF
 (tools/pdf_book.py) and ``student`` runs three downloaded notebooks offline in a fresh
 Python 3.12 (tools/student_path.py).
 
@@ -133,7 +133,7 @@ def main() -> int:
                           "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
                           f"--junitxml={REPORTS / 'nbval.xml'}"],
                 junit=REPORTS / "nbval.xml", env=fast, log=parallel),
-            run("pythons", [PY, "tools/test_pythons.py"], log=parallel),
+            run("pythons", [PY, "tools/test_pythons.py", "3.12"], log=parallel),
         ]
 
     def build_lane():

@@ -5,8 +5,9 @@
 For each version (pyenv's ``$(pyenv root)/versions/3.1x.y``, else ``python3.1x`` on PATH): a
 virtual environment in ``_build/pythons/<version>`` gets the library's wheel (built from this
 repository, so the packaging is what is tested) with its dependencies at the lock's versions
-(``-c requirements/lock.txt``), pytest and hypothesis; then the library's pytest runs there,
-from a copy of ``tests/`` outside the source tree so that ``fusioncenter`` is the installed one.
+(``-c requirements/lock.txt``; the dask and notebook extras too), pytest and hypothesis; then
+the library's pytest runs there, from a copy of ``tests/`` outside the source tree so that
+``fusioncenter`` is the installed one.
 The book, nbval and site tests stay on the book's Python 3.11 (they need the pinned Jupyter Book).
 """
 
@@ -66,8 +67,8 @@ def main(argv: list[str] | None = None) -> int:
                             "--no-deps", str(wheel)], check=True)
             subprocess.run([vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
                             "-c", str(ROOT / "requirements" / "lock.txt"),
-                            f"fusioncenter[notebook] @ {wheel.as_uri()}", "pytest", "hypothesis",
-                            "pyyaml"], check=True)
+                            f"fusioncenter[dask,notebook] @ {wheel.as_uri()}", "pytest",
+                            "hypothesis", "pyyaml"], check=True)
             t1 = time.perf_counter()
             env = {**os.environ, "FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
             env.pop("PYTHONPATH", None)

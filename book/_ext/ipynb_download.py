@@ -102,7 +102,8 @@ def _reference(entries, key: str) -> str:
     who = ", ".join(names) if names else key
     f = {k.lower(): _clean(v) for k, v in e.fields.items()}
     out = f"{who} ({f.get('year', 'n.d.')}). {f.get('title', '')}."
-    venue = f.get("journal") or f.get("booktitle") or f.get("publisher") or f.get("school")
+    venue = (f.get("journal") or f.get("booktitle") or f.get("howpublished") or f.get("note")
+             or f.get("institution") or f.get("publisher") or f.get("school"))
     if venue:
         out += f" *{venue}*"
         if f.get("volume"):
@@ -188,6 +189,9 @@ def _write(app, pagename, templatename, context, doctree):
         return
     executed = _executed(app, pagename)
     nb = json.loads(executed.read_text())
+    # MyST-NB moves the glued outputs out of the notebook into <page>.glue.json
+    glue_file = executed.with_name(executed.name[: -len(".ipynb")] + ".glue.json")
+    glue = json.loads(glue_file.read_text()) if glue_file.exists() else {}
     if not hasattr(app, "_fc_bib"):
         app._fc_bib = _bibliography(app)
     from fusioncenter import __version__
@@ -195,8 +199,8 @@ def _write(app, pagename, templatename, context, doctree):
     page_url = f"{_site(app, pagename)}{pagename}.html"
     reader, problems = reader_notebook(
         nb, _resolver(app, pagename, doctree, app._fc_bib), page_url=page_url,
-        book_title=app.config.project or "the book", version=__version__,
-        macros=_macros(app), profile=os.environ.get("FUSIONCENTER_PROFILE") or None)
+        book_title=app.config.html_title or app.config.project or "the book", version=__version__,
+        macros=_macros(app), profile=os.environ.get("FUSIONCENTER_PROFILE") or None, glue=glue)
     for p in problems:
         LOG.warning(f"reader notebook {pagename}.ipynb: {p}", location=pagename)
     target = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"

@@ -121,7 +121,7 @@ class _Rewriter:
         if link is None:
             self.problems.append(f"unresolved {{{role}}}`{body}`")
             return text or target
-        return f"[{text or link.text}]({link.url})"
+        return f"[{(text or link.text).strip()}]({link.url})"
 
     def role(self, m: re.Match) -> str:
         role, body = m["role"], m["body"]
@@ -191,7 +191,7 @@ class _Rewriter:
             return ["$$", *inner, "$$"]
         if name == "solution-start":
             link = self.r.ref(arg)
-            what = f"[{link.text}]({link.url})" if link else "the exercise"
+            what = f"[{link.text.strip()}]({link.url})" if link else "the exercise"
             return [f"**Solution** to {what}:", ""]
         if name == "solution-end":
             return ["", "*(end of the solution)*"]
@@ -238,16 +238,20 @@ def expand_macros(text: str, macros: dict[str, str]) -> str:
 
 def reader_notebook(nb: dict, resolver: Resolver, *, page_url: str, book_title: str,
                     version: str, macros: dict[str, str] | None = None,
-                    profile: str | None = None) -> tuple[dict, list[str]]:
+                    profile: str | None = None,
+                    glue: dict[str, dict] | None = None) -> tuple[dict, list[str]]:
     """Return the reader-ready copy of the executed notebook ``nb`` and a list of problems.
 
     The profile the outputs were computed in is read from the chapter's ``profile: ...`` output
     line (printed by ``fusioncenter.book.setup``); ``profile`` is the fallback when there is
-    none. The problems name every role left unresolved and any MyST markup left over.
+    none. ``glue`` adds glued values to those found in the outputs (MyST-NB moves the hidden
+    ones from its executed notebook to ``<page>.glue.json``). The problems name every role
+    left unresolved and any MyST markup left over.
     """
     nb = copy.deepcopy(nb)
     macros = macros or {}
-    rw = _Rewriter(resolver, glue_values(nb))
+    extra = {k: v.get("data", v) for k, v in (glue or {}).items()}  # outputs or MIME bundles
+    rw = _Rewriter(resolver, {**glue_values(nb), **extra})
     profile = _profile_of(nb) or profile
     for cell in nb["cells"]:
         if cell.get("cell_type") == "markdown":
@@ -269,7 +273,8 @@ def reader_notebook(nb: dict, resolver: Resolver, *, page_url: str, book_title: 
             break
     if profile and installer is not None:
         line = (f'os.environ["FUSIONCENTER_PROFILE"] = "{profile}"  '
-                f'# <- THE PROFILE: "{profile}" gives the outputs below; "fast" runs in seconds')
+                '# <- THE PROFILE of the outputs below; "fast" runs in seconds, "paper" at the '
+                "papers' scale")
         installer["source"] = PROFILE_LINE.sub(lambda _m: line, _source(installer), count=1)
     elif installer is None:
         rw.problems.append("no install cell with the FUSIONCENTER_PROFILE line")
@@ -283,7 +288,7 @@ def reader_notebook(nb: dict, resolver: Resolver, *, page_url: str, book_title: 
     if resolver.cited:
         refs = "\n".join(f"- {resolver.reference(k)}" for k in resolver.cited)
         cells.append({"cell_type": "markdown", "id": "reader-references", "metadata": {},
-                      "source": "## References\n\n" + refs})
+                      "source": "## Works cited in this chapter\n\n" + refs})
     nb["cells"] = cells
     for cell in nb["cells"]:
         if cell["cell_type"] == "markdown":

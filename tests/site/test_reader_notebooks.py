@@ -55,7 +55,7 @@ def test_every_chapter_download_is_reader_ready(site):
                 bad += [f"{doc}: {m[0]!r}" for m in MYST_LEFTOVER.finditer(_text(cell))]
         md = "\n".join(_text(c) for c in cells if c["cell_type"] == "markdown")
         source = chapters.source(doc).read_text()
-        if "{cite:" in source and "## References" not in md:
+        if "{cite:" in source and "## Works cited in this chapter" not in md:
             bad.append(f"{doc}: citations without a references cell")
     assert not bad, "\n".join(bad[:40])
 
