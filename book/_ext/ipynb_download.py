@@ -184,11 +184,32 @@ def _macros(app) -> dict[str, str]:
     return dict((cfg.get("tex") or {}).get("macros") or {})
 
 
+def _with_outputs(app, nb: dict) -> dict:
+    """The executed notebook with its outputs.
+
+    When MyST-NB takes a notebook from its execution cache, it writes the notebook to
+    ``jupyter_execute`` without the outputs (it merges them only into the document it
+    renders); take them from the same cache then.
+    """
+    if any(c.get("outputs") for c in nb["cells"] if c["cell_type"] == "code"):
+        return nb
+    import nbformat
+    from jupyter_cache import get_cache
+
+    path = (getattr(app.config, "nb_execution_cache_path", "")
+            or str(Path(app.outdir).parent / ".jupyter_cache"))
+    try:
+        _, merged = get_cache(path).merge_match_into_notebook(nbformat.from_dict(nb))
+    except KeyError:  # not in the cache: nothing was executed, leave it as it is
+        return nb
+    return json.loads(nbformat.writes(merged))
+
+
 def _write(app, pagename, templatename, context, doctree):
     if context.get("ipynb_source") != f"{pagename}.ipynb":
         return
     executed = _executed(app, pagename)
-    nb = json.loads(executed.read_text())
+    nb = _with_outputs(app, json.loads(executed.read_text()))
     # MyST-NB moves the glued outputs out of the notebook into <page>.glue.json
     glue_file = executed.with_name(executed.name[: -len(".ipynb")] + ".glue.json")
     glue = json.loads(glue_file.read_text()) if glue_file.exists() else {}
@@ -235,9 +256,26 @@ def _book_pdf_button(app, pagename, templatename, context, doctree):
                 "label": "download-book-pdf-button"})
 
 
-def _launch_needs_repository(app, config):
-    """Without a repository URL the theme would link launch buttons to jupyter-book's own."""
+def _launch_settings(app, config):
+    """Bring _config.yml's ``repository`` and ``launch_buttons`` into the theme's options.
+
+    Jupyter Book writes them into ``html_theme_options``, but the ``sphinx.config``
+    section of _config.yml sets ``html_theme_options`` too and replaces them. Without a
+    repository URL the launch buttons are switched off (the theme would link them to
+    jupyter-book's own repository).
+    """
+    import yaml
+
+    cfg_file = Path(app.srcdir) / "_config.yml"
+    cfg = yaml.safe_load(cfg_file.read_text()) if cfg_file.exists() else {}
     opts = config.html_theme_options
+    repo = cfg.get("repository") or {}
+    for key, yml in (("repository_url", "url"), ("repository_branch", "branch"),
+                     ("path_to_docs", "path_to_book")):
+        if yml in repo:
+            opts.setdefault(key, repo[yml])
+    if cfg.get("launch_buttons"):
+        opts.setdefault("launch_buttons", dict(cfg["launch_buttons"]))
     if not (opts.get("repository_url") or "").strip():
         for key in ("binderhub_url", "colab_url", "jupyterhub_url"):
             if key in (opts.get("launch_buttons") or {}):
@@ -246,7 +284,7 @@ def _launch_needs_repository(app, config):
 
 def setup(app):
     app.add_config_value(NOTEBOOKS_BRANCH, "notebooks", "html")
-    app.connect("config-inited", _launch_needs_repository)
+    app.connect("config-inited", _launch_settings)
     app.connect("html-page-context", _offer, priority=500)
     app.connect("html-page-context", _write, priority=502)
     app.connect("html-page-context", _book_pdf_button, priority=502)
