@@ -43,7 +43,10 @@ bench: venv
 lab: venv
 	@$(VENV)/bin/jupyter lab --notebook-dir=book
 
+# Chromium prints the pages (Debian's package, as for the browser check in `make test`)
 pdf: venv
+	@command -v chromium >/dev/null 2>&1 || { echo "make pdf: installing Debian's chromium" >&2; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
 	@test -f _build/html/index.html || $(PY) tools/build_book.py --profile paper
 	@$(PY) tools/pdf_book.py --site _build/html --out _build/pdf/book.pdf
 
