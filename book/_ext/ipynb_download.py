@@ -251,7 +251,7 @@ def _book_pdf_button(app, pagename, templatename, context, doctree):
     for group in context.get("header_buttons", []):
         if group.get("label") == "download-buttons":
             group["buttons"].append({
-                "type": "link", "url": context["pathto"]("book.pdf", 1), "text": "book.pdf",
+                "type": "link", "url": context["pathto"]("book.pdf", 1), "text": "whole book",
                 "tooltip": "The whole book as one PDF", "icon": "fas fa-book",
                 "label": "download-book-pdf-button"})
 
