@@ -5,14 +5,17 @@ SHELL := /bin/bash
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: help venv book test golden bench lab lock clean
+.PHONY: help venv book test test-pythons test-student golden bench lab pdf lock clean
 
 help:
 	@echo "make book       build the site (paper profile) into _build/html"
 	@echo "make test       ruff, pytest, strict nbval, strict site build (fast), browser check"
 	@echo "make golden     regenerate tests/golden/*.ipynb from the chapters"
 	@echo "make bench      run benchmarks/ and print medians and ratios"
-	@echo "make lab        open the chapters as notebooks in JupyterLab"
+	@echo "make lab        open the chapters as notebooks in JupyterLab (.md opens as a notebook)"
+	@echo "make pdf        the whole book as one PDF -> _build/pdf/book.pdf (builds the site if missing)"
+	@echo "make test-pythons  the library's tests on Python 3.12 and 3.13 (pyenv)"
+	@echo "make test-student  downloaded notebooks run offline in a fresh Python 3.12 (needs the fast build)"
 	@echo "make lock       re-resolve requirements/requirements.in into requirements/lock.txt"
 	@echo "make clean      remove _build"
 
@@ -31,8 +34,24 @@ golden: venv
 bench: venv
 	@$(PY) benchmarks/run.py
 
+# bootstrap (venv) writes binder/overrides.json into the venv's JupyterLab settings: jupytext
+# opens the .md chapters as notebooks on a double-click
 lab: venv
 	@$(VENV)/bin/jupyter lab --notebook-dir=book
+
+# Chromium prints the pages (Debian's package, as for the browser check in `make test`)
+pdf: venv
+	@command -v chromium >/dev/null 2>&1 || { echo "make pdf: installing Debian's chromium" >&2; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
+	@test -f _build/html/index.html || $(PY) tools/build_book.py --profile paper
+	@$(PY) tools/pdf_book.py --site _build/html --out _build/pdf/book.pdf
+
+test-pythons: venv
+	@$(PY) tools/test_pythons.py
+
+test-student: venv
+	@test -f _build/fast/_build/html/index.html || $(PY) tools/build_book.py --profile fast --strict
+	@$(PY) tools/student_path.py --site _build/fast/_build/html
 
 lock:
 	@tools/lock.sh

@@ -17,15 +17,27 @@ if [ -z "$PY" ]; then
   echo "bootstrap: Python 3.11 is required (set PYTHON=/path/to/python3.11)" >&2
   exit 1
 fi
-stamp_id=$(cat requirements/lock.txt pyproject.toml | sha256sum | cut -c1-16)
+# JupyterLab opens the .md chapters as notebooks (jupytext as their default viewer): the same
+# settings file as Binder's, in this environment's JupyterLab settings (also for older venvs).
+lab_settings() {
+  local dir="$VENV/share/jupyter/lab/settings"
+  if ! cmp -s binder/overrides.json "$dir/overrides.json" 2>/dev/null; then
+    mkdir -p "$dir" && cp binder/overrides.json "$dir/overrides.json"
+  fi
+}
+# the version is part of the stamp: the editable install's metadata carries it, and the chapters'
+# first cell compares it with the book's
+stamp_id=$(cat requirements/lock.txt pyproject.toml src/fusioncenter/__init__.py | sha256sum | cut -c1-16)
 stamp="$VENV/.installed-$stamp_id"
 if [ -f "$stamp" ]; then
+  [ -x "$VENV/bin/python" ] && lab_settings
   exit 0
 fi
 echo "bootstrap: installing the environment into $VENV from requirements/lock.txt" >&2
 [ -x "$VENV/bin/python" ] || "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r requirements/lock.txt
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --no-deps -e .
+lab_settings
 rm -f "$VENV"/.installed-*
 touch "$stamp"
 echo "bootstrap: done" >&2

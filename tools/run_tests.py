@@ -6,7 +6,12 @@ Stages, in order (all run; the exit code is 1 if any failed):
 2. library     pytest on the library and the repository (not the site, not `slow`)
 3. nbval       strict nbval (``--nbval``) on the executed reference notebooks tests/golden/
 4. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-5. site        pytest on the built site: no external resources, headless-Chromium check
+5. site        pytest on the built site: no external resources, headless-Chromium check, the PDF
+
+With the library stage: ``pythons``, the library's tests on Python 3.12 (tools/test_pythons.py;
+``make test-pythons`` adds 3.13). After the site build: ``pdf`` prints the fast site as one PDF
+(tools/pdf_book.py) and ``student`` runs three downloaded notebooks offline in a fresh
+Python 3.12 (tools/student_path.py).
 
 A skipped test in the site stage counts as a failure: the browser check may not be skipped.
 
@@ -147,11 +152,14 @@ def main() -> int:
                           "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
                           f"--junitxml={REPORTS / 'nbval.xml'}"],
                 junit=REPORTS / "nbval.xml", env=fast, log=parallel),
+            run("pythons", [PY, "tools/test_pythons.py", "3.12"], log=parallel),
         ]
 
     def build_lane():
         return [run("site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict"],
-                    log=parallel)]
+                    log=parallel),
+                run("pdf", [PY, "tools/pdf_book.py", "--site", str(site)], log=parallel),
+                run("student", [PY, "tools/student_path.py", "--site", str(site)], log=parallel)]
 
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                            "book/_ext"])]

@@ -1,0 +1,208 @@
+"""A chapter runs where the student is: the package, the first cell, Binder, the reader notebook."""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+import tomllib
+from pathlib import Path
+
+import jupytext
+import pytest
+import yaml
+
+import fusioncenter
+from fusioncenter import glue as fc_glue
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "book" / "_ext"))
+import chapters  # noqa: E402
+from reader_notebook import Link, Resolver, reader_notebook  # noqa: E402
+
+PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
+CONFIG = yaml.safe_load((ROOT / "_config.yml").read_text())
+
+
+def _lock() -> dict[str, str]:
+    pins = {}
+    for line in (ROOT / "requirements" / "lock.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            name, _, version = line.partition("==")
+            pins[name.lower().replace("_", "-")] = version
+    return pins
+
+
+def _first_cells() -> dict[str, jupytext.jupytext.NotebookNode]:
+    return {d: jupytext.read(chapters.source(d)).cells[0] for d in chapters.notebook_chapters()}
+
+
+def test_every_chapter_starts_with_the_same_hidden_install_cell():
+    cells = _first_cells()
+    assert len(cells) >= 20
+    sources = {c.source for c in cells.values()}
+    assert len(sources) == 1, "the first cells differ between chapters"
+    for doc, cell in cells.items():
+        assert cell.cell_type == "code", doc
+        assert cell.metadata.get("tags") == ["remove-cell"], doc
+    src = sources.pop()
+    assert '%pip install --quiet "fusioncenter[notebook]=={BOOK_VERSION}"' in src
+    assert re.search(r'^os\.environ\.setdefault\("FUSIONCENTER_PROFILE", "fast"\)', src, re.M)
+    version = re.search(r'^BOOK_VERSION = "([^"]+)"$', src, re.M)[1]
+    assert version == fusioncenter.__version__ == _installed_version()
+
+
+def _installed_version() -> str:
+    import importlib.metadata
+
+    return importlib.metadata.version("fusioncenter")
+
+
+def test_install_cell_does_nothing_where_the_library_is_installed(monkeypatch):
+    """The cell's Python with the magic replaced: here (editable install) it installs nothing."""
+    src = next(iter(_first_cells().values())).source
+    calls = []
+    code = src.replace('%pip install --quiet "fusioncenter[notebook]=={BOOK_VERSION}"',
+                       "calls.append(BOOK_VERSION)")
+    monkeypatch.setenv("FUSIONCENTER_PROFILE", "paper")
+    exec(compile(code, "install-cell", "exec"), {"calls": calls})
+    assert calls == []
+    import os
+
+    assert os.environ["FUSIONCENTER_PROFILE"] == "paper"  # setdefault: the build's profile wins
+    code_missing = code.replace('importlib.metadata.version("fusioncenter")',
+                                'importlib.metadata.version("fusioncenter-not-installed")')
+    exec(compile(code_missing, "install-cell", "exec"), {"calls": calls})
+    assert calls == [fusioncenter.__version__]
+
+
+def test_chapters_take_glue_from_the_library():
+    for doc in chapters.notebook_chapters():
+        text = chapters.source(doc).read_text()
+        assert "from myst_nb import" not in text, doc
+
+
+def test_package_metadata_is_complete_and_any_python_from_311():
+    p = PYPROJECT["project"]
+    assert p["requires-python"] == ">=3.11"
+    assert p["dynamic"] == ["version"] and p["license"] == "MIT" and p["readme"] == "README.md"
+    assert (ROOT / "LICENSE").exists()
+    for v in ("3.11", "3.12", "3.13"):
+        assert f"Programming Language :: Python :: {v}" in p["classifiers"]
+    assert {"ipykernel", "ipython"} <= {re.split(r"[<>=\[]", r)[0]
+                                        for r in p["optional-dependencies"]["notebook"]}
+    for tool in ("build", "twine", "pypdf"):
+        assert tool in _lock(), f"{tool} is not pinned in requirements/lock.txt"
+
+
+def test_urls_are_set_in_one_place_and_agree():
+    repo = CONFIG["repository"]["url"].rstrip("/")
+    site = CONFIG["html"]["baseurl"]
+    assert re.fullmatch(r"https://github\.com/[^/]+/[^/]+", repo)
+    assert site.startswith("https://") and site.endswith("/")
+    urls = PYPROJECT["project"]["urls"]
+    assert urls["Source"] == repo and urls["Issues"] == f"{repo}/issues"
+    assert urls["Homepage"] == urls["Documentation"] == site
+    launch = CONFIG["launch_buttons"]
+    assert launch["binderhub_url"] and launch["colab_url"]
+
+
+def test_binder_is_slim_and_pinned_like_the_lock():
+    lock = _lock()
+    pins = {}
+    for line in (ROOT / "binder" / "requirements.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            name, _, version = line.partition("==")
+            pins[name.lower()] = version
+    assert {"jupyterlab", "jupytext", "numpy", "numba", "scipy"} <= set(pins)
+    assert not {"jupyter-book", "pytest", "playwright", "sphinx"} & set(pins)
+    for name, version in pins.items():
+        assert lock.get(name) == version, f"binder: {name}=={version}, lock: {lock.get(name)}"
+    viewers = json.loads((ROOT / "binder" / "overrides.json").read_text())[
+        "@jupyterlab/docmanager-extension:plugin"]["defaultViewers"]
+    assert viewers == {"markdown": "Jupytext Notebook", "myst": "Jupytext Notebook"}
+    post = (ROOT / "binder" / "postBuild").read_text()
+    assert "overrides.json" in post and "pip install" in post
+
+
+def _captured_display(monkeypatch, module, attr):
+    seen = []
+    monkeypatch.setattr(module, attr, lambda obj, **kw: seen.append((obj, kw)))
+    return seen
+
+
+def test_glue_without_myst_nb_writes_what_myst_nb_writes(monkeypatch):
+    import IPython.display
+    myst_nb = pytest.importorskip("myst_nb")
+    import myst_nb.ext.glue as mg
+
+    ours = _captured_display(monkeypatch, IPython.display, "display")
+    fc_glue._fallback_glue("x", 0.125, display=False)
+    fc_glue._fallback_glue("y", "text", display=True)
+    theirs = _captured_display(monkeypatch, mg, "ipy_display")
+    myst_nb.glue("x", 0.125, display=False)
+    myst_nb.glue("y", "text", display=True)
+    assert ours == theirs and len(ours) == 2
+    with pytest.raises(ValueError, match="name"):
+        fc_glue.glue("", 1)
+
+
+def _resolver() -> Resolver:
+    return Resolver(
+        doc=lambda t: Link("S/a/b.html", "Doc B") if t == "../a/b" else None,
+        ref=lambda t: Link(f"S/y.html#{t}", "Exercise 3" if t == "ex-1" else "Section Y"),
+        eq=lambda t: Link(f"S/p.html#equation-{t}", "(2.1)"),
+        prf=lambda t: Link(f"S/p.html#{t}", "Theorem 1"),
+        cite=lambda keys, textual: " / ".join(f"{k}-{'t' if textual else 'p'}" for k in keys),
+        reference=lambda k: f"entry of {k}", number=lambda label: "7" if label else "")
+
+
+def _executed_notebook(markdown: str) -> dict:
+    record = "application/papermill.record/"
+    return {"cells": [
+        {"cell_type": "code", "metadata": {}, "outputs": [], "source":
+            'import os\nos.environ.setdefault("FUSIONCENTER_PROFILE", "fast")  # the profile\n'},
+        {"cell_type": "markdown", "metadata": {}, "source": markdown},
+        {"cell_type": "code", "metadata": {}, "source": "setup()", "outputs": [
+            {"output_type": "stream", "name": "stdout", "text": ["profile: paper  (set ...)\n"]},
+            {"output_type": "display_data", "data": {record + "text/plain": "0.123456"},
+             "metadata": {"scrapbook": {"name": "v", "mime_prefix": record}}},
+            {"output_type": "display_data", "data": {"text/plain": "'12'"},
+             "metadata": {"scrapbook": {"name": "n", "mime_prefix": ""}}}]}]}
+
+
+def test_reader_notebook_resolves_myst_for_plain_jupyter():
+    md = ("(sec-x)=\n# Title\n\n{cite:t}`mo2015` find $\\E x$ = {glue:text}`v:.3f` and "
+          "{glue:text}`n`; see {eq}`eq-a`, {ref}`sec-y`, {doc}`../a/b`, {prf:ref}`thm-1`.\n\n"
+          "$$\nx = 1\n$$ (eq-a)\n\n:::{admonition} What\n:class: tip\n\n* one "
+          "{cite:p}`mo2015,dey2009`\n:::\n\n```{prf:theorem} Big\n:label: thm-1\n\nIt holds.\n"
+          "```\n\n::::{exercise}\n:label: ex-1\n\nDo it.\n::::\n\n:::{solution-start} ex-1\n"
+          ":class: dropdown\n:::\nAnswer.\n:::{solution-end}\n:::\n")
+    out, problems = reader_notebook(_executed_notebook(md), _resolver(), page_url="S/p.html",
+                                    book_title="Book", version="9.9.9",
+                                    macros={"E": "\\mathbb{E}"})
+    assert problems == []
+    note, install, prose, _code, refs = out["cells"]
+    assert "`paper` profile" in note["source"] and "9.9.9" in note["source"]
+    assert 'os.environ["FUSIONCENTER_PROFILE"] = "paper"  # <- THE PROFILE' in install["source"]
+    text = prose["source"]
+    for want in ("mo2015-t find $\\mathbb{E} x$ = 0.123 and 12",
+                 "[(2.1)](S/p.html#equation-eq-a)", "[Section Y](S/y.html#sec-y)",
+                 "[Doc B](S/a/b.html)", "[Theorem 1](S/p.html#thm-1)",
+                 "> **What**", "> * one mo2015-p / dey2009-p", "> **Theorem 7 (Big)**",
+                 "> It holds.", "> **Exercise 7**", "**Solution** to [Exercise 3](S/y.html#ex-1)",
+                 "$$\nx = 1\n$$\n"):
+        assert want in text, want
+    assert "(sec-x)=" not in text and "{" not in text.replace("\\mathbb{E}", "")
+    assert refs["source"] == ("## Works cited in this chapter\n\n"
+                              "- entry of mo2015\n- entry of dey2009")
+
+
+def test_reader_notebook_reports_what_it_cannot_resolve():
+    _, problems = reader_notebook(
+        _executed_notebook("{doc}`nowhere` and {glue:text}`missing:.2f` and {foo}`bar`"),
+        _resolver(), page_url="S", book_title="B", version="1")
+    assert any("unresolved {doc}" in p for p in problems)
+    assert any("no glued value 'missing'" in p for p in problems)
+    assert any("unknown role {foo}" in p for p in problems)
