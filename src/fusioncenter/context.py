@@ -179,8 +179,17 @@ _CLOSERS: list = []
 _LOCK = threading.Lock()
 
 
+def _worker_init() -> None:
+    """Initializer of a pool worker: Ctrl-C is left to the parent (which stops the pool; a
+    kernel's shutdown interrupts its whole process group), and one BLAS thread."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _one_blas_thread()
+
+
 def _one_blas_thread() -> None:
-    """Worker initializer: one BLAS / OpenMP thread in this process.
+    """One BLAS / OpenMP thread in this process.
 
     The variables of :data:`THREAD_VARS` are set for anything the worker starts; the BLAS
     already loaded (a spawned worker imports NumPy while unpickling its first task, possibly
@@ -233,7 +242,7 @@ def _start(spec: str):
 
         pool = ProcessPoolExecutor(int(spec.split(":", 1)[1]),
                                    mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_one_blas_thread)
+                                   initializer=_worker_init)
         _CLOSERS.append(lambda: pool.shutdown(wait=True, cancel_futures=True))
         return pool
     from dask.distributed import Client, LocalCluster
