@@ -60,7 +60,21 @@ def _display(bundle: dict, metadata: dict) -> None:
 
 
 def evidence_text(entry_id: str, claims) -> str:
-    """The claims as wrapped plain text: one verdict line per claim, its detail indented."""
+    """The claims as wrapped plain text: one verdict line per claim, its detail indented.
+
+    Parameters
+    ----------
+    entry_id : str
+        The registry id the claims belong to (named in the first line).
+    claims : list of Claim
+        The evaluated claims (:meth:`fusioncenter.figures.registry.Entry.run_checks`).
+
+    Returns
+    -------
+    str
+        Lines of at most 88 characters: a count of the claims that hold, then ``PASS:`` or
+        ``FAIL:`` with each claim's name and its bracketed detail.
+    """
     held = sum(bool(c.passed) for c in claims)
     lines = [f"Evidence for {entry_id}: {held} of {len(claims)} claims hold"]
     for c in claims:
@@ -74,7 +88,21 @@ def evidence_text(entry_id: str, claims) -> str:
 
 
 def evidence_html(entry_id: str, claims) -> str:
-    """The claims as a collapsible table (claim, value or detail, verdict)."""
+    """The claims as a collapsible table (claim, value or detail, verdict).
+
+    Parameters
+    ----------
+    entry_id : str
+        The registry id the claims belong to (named in the summary line).
+    claims : list of Claim
+        The evaluated claims.
+
+    Returns
+    -------
+    str
+        An HTML ``<details>`` block whose summary counts the claims that hold; it is open when
+        a claim failed.
+    """
     held = sum(bool(c.passed) for c in claims)
     rows = "".join(
         f'<tr class="fc-{"pass" if c.passed else "fail"}"><td>{html.escape(c.name)}</td>'
