@@ -17,6 +17,12 @@ reported. For each page it checks:
   math element, left no raw TeX delimiters (``\\(``, ``\\[``, ``$$``) visible in them, reported no
   TeX error (``mjx-merror``) nor undefined macro (drawn in red by MathJax's noundefined
   extension), and its woff fonts were loaded from the site itself.
+* at 1280 px, no element of the main text (tables, outputs, display math, paragraphs...) has
+  content wider than its box, except code listings the page marks as scrollable
+  (``fc-scroll-code``); counts per page and in total are printed (``check_layout``);
+* no page (text, titles, link texts) and no title of the search index contains unrendered
+  MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
+  (``check_markup``).
 
 Importable: ``check_site(html_dir) -> list[str]`` returns the problems (empty when all is well).
 A missing browser or playwright is a problem, never a skip. Exit status 1 on any problem.

@@ -192,8 +192,9 @@ def search(site: Path):
 def test_search_finds_the_reproducing_page_first(search, query, page) -> None:
     hits = search(query)
     assert hits, f"search for {query!r} found nothing"
-    assert hits[0].split("#")[0] == page, f"search for {query!r}: first hit {hits[0]}, " \
-                                          f"expected {page}; all: {hits[:5]}"
+    first = re.sub(r"^(\./)+", "", hits[0].split("#")[0])
+    assert first == page, f"search for {query!r}: first hit {hits[0]}, expected {page}; " \
+                          f"all: {hits[:5]}"
 
 
 # ------------------------------------------------------------------------- the sources

@@ -87,8 +87,11 @@ def scorecard_markdown(paper: str | None = None) -> str:
     with_paper = paper is None
     lines = ["| reproduced in | status | chapter |", "| --- | --- | --- |"]
     for e in rows:
-        lines.append(f"| {_link(e, _name(e, with_paper))} | **{e.status}** | "
-                     f"{{doc}}`/{e.chapter}` |")
+        if paper_reference(e) == "book's own":  # no paper number: the section names it
+            where = (f"{e.paper}, book's own" if with_paper else "book's own") + f": {_link(e)}"
+        else:
+            where = _link(e, _name(e, with_paper))
+        lines.append(f"| {where} | **{e.status}** | {{doc}}`/{e.chapter}` |")
     return "\n".join(lines) + "\n\n" + _details(
         rows, with_paper, "Captions, notes and registry ids of these entries")
 
