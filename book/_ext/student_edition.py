@@ -4,8 +4,9 @@ Set ``FUSIONCENTER_EDITION=student`` for the build (``make book-student`` does) 
 solution is dropped: the ``{solution}`` directives and the gated ``{solution-start}`` ...
 ``{solution-end}`` blocks with whatever they contain (text, math, code cells and their outputs)
 are removed from the pages, and the cells between them from the ``.ipynb`` offered for download.
-Each dropped solution leaves one line saying so. Any other value (or none) builds the
-instructor's edition, where the solutions stay on the page, collapsed (``:class: dropdown``).
+Each dropped solution leaves one line saying so, and the page's MyST source is not copied to the
+site. Unset (or ``instructor``) builds the instructor's edition, where the solutions stay on the
+page, collapsed (``:class: dropdown``); any other value stops the build.
 
 The doctree pass runs after sphinx-exercise merged the gated blocks into one solution node
 (its transform has priority 10), so a gated solution goes with everything inside it.
@@ -121,13 +122,8 @@ def _strip_download(app, pagename, templatename, context, doctree) -> None:
         target.write_text(json.dumps(nb, indent=1, ensure_ascii=False) + "\n", encoding="utf-8")
 
 
-def _announce(app, config) -> None:
-    config.html_context = {**(config.html_context or {}), "fusioncenter_edition": edition()}
-
-
 def setup(app):
     edition()  # a bad value fails the build at once
     app.add_transform(DropSolutions)
-    app.connect("config-inited", _announce)
     app.connect("html-page-context", _strip_download, priority=600)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1.0"}

@@ -264,3 +264,39 @@ def test_config_registers_the_stylesheet_and_numbering() -> None:
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
     numbered = [p["caption"] for p in toc["parts"] if p.get("numbered")]
     assert sum(c.startswith("Part ") for c in numbered) == 5, numbered
+
+
+def _mini_build(tmp_path: Path, monkeypatch, edition: str) -> str:
+    """Build a one-page Sphinx project with an exercise and two kinds of solution."""
+    from sphinx.application import Sphinx
+
+    src = tmp_path / f"src-{edition}"
+    src.mkdir()
+    (src / "conf.py").write_text(
+        "import sys\n"
+        f"sys.path.insert(0, {str(ROOT / 'book' / '_ext')!r})\n"
+        "extensions = ['myst_parser', 'sphinx_exercise', 'student_edition']\n"
+        "myst_enable_extensions = ['dollarmath']\n", encoding="utf-8")
+    (src / "index.md").write_text(
+        "# Mini\n\n```{exercise}\n:label: ex-one\n\nWhat is $1 + 1$?\n```\n\n"
+        "```{solution-start} ex-one\n:class: dropdown\n```\n\nThe gated answer is two.\n\n"
+        "```{solution-end}\n```\n\n```{exercise}\n:label: ex-two\n\nAnd $2 + 2$?\n```\n\n"
+        "```{solution} ex-two\n:class: dropdown\n\nThe plain answer is four.\n```\n\n"
+        "Text after the solutions.\n", encoding="utf-8")
+    monkeypatch.setenv(student_edition.EDITION_VAR, edition)
+    out = tmp_path / f"out-{edition}"
+    app = Sphinx(str(src), str(src), str(out), str(tmp_path / f"doctrees-{edition}"), "html",
+                 status=None, warning=None, freshenv=True)
+    app.build()
+    return (out / "index.html").read_text(encoding="utf-8")
+
+
+def test_student_edition_build_drops_the_solutions(tmp_path, monkeypatch) -> None:
+    teacher = _mini_build(tmp_path, monkeypatch, "instructor")
+    student = _mini_build(tmp_path, monkeypatch, "student")
+    for answer in ("The gated answer is two.", "The plain answer is four."):
+        assert answer in teacher
+        assert answer not in student
+    for text in ("What is", "And", "Text after the solutions."):
+        assert text in student
+    assert student.count(student_edition.NOTE) == 2
