@@ -5,10 +5,11 @@ SHELL := /bin/bash
 VENV ?= .venv
 PY := $(VENV)/bin/python
 
-.PHONY: help venv book test test-pythons test-student golden bench lab pdf lock clean
+.PHONY: help venv book book-student test test-pythons test-student golden bench lab pdf lock clean
 
 help:
 	@echo "make book       build the site (paper profile) into _build/html"
+	@echo "make book-student  the student edition (no solutions) into _build/student/_build/html"
 	@echo "make test       ruff, pytest, strict nbval, strict site build (fast), browser check"
 	@echo "make golden     regenerate tests/golden/*.ipynb from the chapters"
 	@echo "make bench      run benchmarks/ and print medians and ratios"
@@ -24,6 +25,9 @@ venv:
 
 book: venv
 	@$(PY) tools/build_book.py --profile paper
+
+book-student: venv
+	@$(PY) tools/build_book.py --profile paper --edition student
 
 test: venv
 	@$(PY) tools/run_tests.py

@@ -17,6 +17,12 @@ reported. For each page it checks:
   math element, left no raw TeX delimiters (``\\(``, ``\\[``, ``$$``) visible in them, reported no
   TeX error (``mjx-merror``) nor undefined macro (drawn in red by MathJax's noundefined
   extension), and its woff fonts were loaded from the site itself.
+* at 1280 px, no element of the main text (tables, outputs, display math, paragraphs...) has
+  content wider than its box, except code listings the page marks as scrollable
+  (``fc-scroll-code``); counts per page and in total are printed (``check_layout``);
+* no page (text, titles, link texts) and no title of the search index contains unrendered
+  MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
+  (``check_markup``).
 
 Importable: ``check_site(html_dir) -> list[str]`` returns the problems (empty when all is well).
 A missing browser or playwright is a problem, never a skip. Exit status 1 on any problem.
@@ -202,6 +208,7 @@ def check_site(
     base = f"http://{LOCAL_HOST}:{port}/"
 
     results: list[PageResult] = []
+    layouts: list[LayoutResult] = []
     site_problems: list[str] = []
     try:
         with sync_playwright() as pw:
@@ -211,7 +218,7 @@ def check_site(
                 first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
                 return [f"cannot start headless Chromium at {CHROMIUM}: {first}; {INSTALL_HINT} "
                         "(browser check cannot run)"]
-            context = browser.new_context(service_workers="block")
+            context = browser.new_context(service_workers="block", viewport=VIEWPORT)
             current: dict[str, PageResult | None] = {"page": None}
             aborted: set[str] = set()
 
@@ -286,12 +293,23 @@ def check_site(
                 except PlaywrightError as exc:
                     res.problems.append(f"page {rel}: browser error: "
                                         f"{str(exc).strip().splitlines()[0]}")
+                if parser.refresh_target is None:
+                    try:
+                        layout = check_layout(page, rel)
+                    except PlaywrightError as exc:
+                        layout = LayoutResult(rel)
+                        res.problems.append(f"page {rel}: layout not measured: "
+                                            f"{str(exc).strip().splitlines()[0]}")
+                    layouts.append(layout)
+                    res.problems += layout.problems()
                 current["page"] = None
                 res.problems = list(dict.fromkeys(res.problems))  # e.g. one 404 seen twice
                 results.append(res)
                 say(res.line())
                 for prob in res.problems:
                     say(f"    {prob}")
+                if parser.refresh_target is None and layouts:
+                    say(layouts[-1].line())
             context.close()
             browser.close()
     finally:
@@ -307,6 +325,12 @@ def check_site(
                              f"expected at least {min_math_pages}")
     if images < min_images:
         site_problems.append(f"only {images} images loaded, expected at least {min_images}")
+    say(layout_summary(layouts))
+    markup_problems, markup_counts = check_markup(html_dir)
+    say(f"markup: {sum(markup_counts.values())} pieces of unrendered MyST/LaTeX in "
+        f"{sum(1 for v in markup_counts.values() if v)} of {len(markup_counts)} files "
+        "(pages and searchindex.js)")
+    site_problems += markup_problems
     n_ok = sum(r.ok for r in results)
     say(f"{len(results)} pages, {math_pages} with typeset math, {images} images loaded")
     say(registry_figure_summary())
@@ -420,6 +444,72 @@ async () => {
 """
 
 
+# ============================================================================================
+# Page layout: clipped content and unrendered markup (the "page" block of this file).
+#
+# Clipped content. Every page is laid out at 1280 px (VIEWPORT). In the main text column
+# (``article.bd-article``) every block element of the kinds in _OVERFLOW_SELECTOR is measured
+# after all collapsed blocks (``<details>``, toggled admonitions) were opened: it is *clipped*
+# when its content is wider than its own box (``scrollWidth > clientWidth``) or its box sticks
+# out of the column. Only the outermost clipped element of a nest is counted. The one exception
+# is a code listing the page marks as scrollable (class ``fc-scroll-code``, set by
+# book/_ext/scroll_code.py) whose ``<pre>`` really scrolls (``overflow-x: auto|scroll``):
+# counted apart as scrollable code, never a problem.
+#
+# Unrendered markup. The served HTML (text outside math, code and scripts; page titles; link
+# texts) and the search index (page and section titles of searchindex.js) must contain no
+# MyST or LaTeX source: no TeX control word (``\tilde``, ``\text{``), no role (``{cite}``,
+# ``{eq}``, ``{glue}``...) and no pair of ``$`` around text.
+# ============================================================================================
+
+VIEWPORT = {"width": 1280, "height": 900}
+SCROLL_CODE_CLASS = "fc-scroll-code"
+_OVERFLOW_SELECTOR = ", ".join([
+    "table", "pre", "div.math", 'mjx-container[display="true"]', "p", "dt", "dd", "li",
+    "div.cell_output", "div.output", "blockquote", "h1", "h2", "h3", "h4", "h5", "h6",
+    "figure", "img", "div.admonition", "div.highlight", "div.proof", "div.exercise",
+])
+
+# Runs in a loaded (and typeset) page; returns the clipped elements and the scrollable code.
+_OVERFLOW_JS = r"""
+async ([selector, scrollClass]) => {
+  document.querySelectorAll('details').forEach(d => { d.open = true; });
+  document.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
+  await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
+  const main = document.querySelector('article.bd-article') || document.querySelector('main');
+  if (!main) return {clipped: [], scrollable: 0, measured: 0, column: 0};
+  const col = main.getBoundingClientRect();
+  const flagged = [];
+  const clipped = [];
+  let scrollable = 0, measured = 0;
+  for (const el of main.querySelectorAll(selector)) {
+    const cs = getComputedStyle(el);
+    if (cs.display === 'none' || cs.display === 'inline' || cs.visibility === 'hidden') continue;
+    const r = el.getBoundingClientRect();
+    if (r.width === 0 && r.height === 0) continue;
+    measured += 1;
+    if (flagged.some(f => f.contains(el))) continue;
+    const inner = el.scrollWidth - el.clientWidth;
+    const outer = Math.max(r.right - col.right, col.left - r.left);
+    if (inner <= 1 && outer <= 1) continue;
+    const code = el.closest('.' + scrollClass);
+    const pre = code && (el.tagName === 'PRE' ? el : el.querySelector('pre'));
+    if (code && pre && /^(auto|scroll)$/.test(getComputedStyle(pre).overflowX)) {
+      scrollable += 1;
+      flagged.push(el);
+      continue;
+    }
+    flagged.push(el);
+    const cls = (el.getAttribute('class') || '').split(/\s+/).slice(0, 3).join('.');
+    clipped.push({what: el.tagName.toLowerCase() + (cls ? '.' + cls : ''),
+                  excess: Math.round(Math.max(inner, outer)), width: Math.round(r.width),
+                  text: (el.textContent || '').replace(/\s+/g, ' ').trim().slice(0, 70)});
+  }
+  return {clipped, scrollable, measured, column: Math.round(col.width)};
+}
+"""
+
+
 def check_registry_figures(page, res) -> None:
     """Each registry figure at a 1280 px window: numbered, alt text, linked to its full
     resolution, its data downloadable, every panel >= MIN_PANEL_PX wide and its smallest font
@@ -478,6 +568,150 @@ def registry_figure_summary() -> str:
             f"{s['min_panel_px']:.0f} px (>= {MIN_PANEL_PX}), smallest font "
             f"{s['min_font_px']:.1f} px (>= {MIN_FONT_PX}) at 1280 px")
 # ------------------------------------------------------------ end of registry figures block
+
+
+@dataclass
+class LayoutResult:
+    """What the layout check found on one page."""
+
+    path: str
+    clipped: list[dict] = field(default_factory=list)
+    scrollable_code: int = 0
+    measured: int = 0
+    column: int = 0
+
+    def line(self) -> str:
+        return (f"    layout {self.path}: {len(self.clipped)} clipped, "
+                f"{self.scrollable_code} scrollable code, {self.measured} elements measured "
+                f"in a {self.column} px column")
+
+    def problems(self) -> list[str]:
+        return [f"page {self.path}: content wider than its box at {VIEWPORT['width']} px: "
+                f"{c['what']} ({c['width']} px, {c['excess']} px too wide): {c['text']!r}"
+                for c in self.clipped]
+
+
+def check_layout(page, path: str) -> LayoutResult:
+    """Measure the clipped elements of the page that is loaded (and typeset) in ``page``."""
+    info = page.evaluate(_OVERFLOW_JS, [_OVERFLOW_SELECTOR, SCROLL_CODE_CLASS])
+    return LayoutResult(path, info["clipped"], info["scrollable"], info["measured"],
+                        info["column"])
+
+
+def layout_summary(results: list[LayoutResult]) -> str:
+    pages = sum(1 for r in results if r.clipped)
+    return (f"layout: {sum(len(r.clipped) for r in results)} clipped elements on {pages} of "
+            f"{len(results)} pages at {VIEWPORT['width']} px, "
+            f"{sum(r.scrollable_code for r in results)} scrollable code listings")
+
+
+# Markup that must never reach the reader.
+RAW_MARKUP = [
+    ("TeX control word", re.compile(r"\\[A-Za-z]{2,}")),
+    ("TeX delimiter", re.compile(r"\\[()\[\]]|\$\$")),
+    ("MyST role", re.compile(r"\{(?:cite|cite:[tp]|eq|glue|glue:\w+|ref|doc|numref|term|math|"
+                             r"index|download|prf:\w+)\}`?")),
+    ("$ pair", re.compile(r"(?<![\\$\w])\$(?=[^\s$])[^$\n]{1,200}?(?<=[^\s\\$])\$(?![\w$])")),
+]
+# Elements whose text is not prose: math (typeset by MathJax), code, scripts.
+_NOT_PROSE_TAGS = {"script", "style", "pre", "code", "kbd", "samp", "textarea", "svg",
+                   "mjx-container"}
+_NOT_PROSE_CLASSES = {"math", "highlight", "notranslate", "cell_input", "MathJax"}
+_VOID_TAGS = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta",
+              "source", "track", "wbr"}
+
+
+def find_raw_markup(text: str) -> list[tuple[str, str]]:
+    """The (kind, excerpt) of every piece of MyST/LaTeX source in ``text``."""
+    found = []
+    for kind, rx in RAW_MARKUP:
+        for m in rx.finditer(text):
+            a, b = max(0, m.start() - 30), min(len(text), m.end() + 30)
+            found.append((kind, " ".join(text[a:b].split())))
+    return found
+
+
+class _ProseText(HTMLParser):
+    """Collect the text of an HTML page that a reader sees as prose (and the page title)."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self._stack: list[bool] = []  # per open element: is it (or an ancestor) not prose?
+        self.chunks: list[str] = []
+        self._buf: list[str] = []
+
+    def _flush(self) -> None:
+        if self._buf:
+            self.chunks.append("".join(self._buf))
+            self._buf = []
+
+    def handle_starttag(self, tag, attrs):
+        if tag in _VOID_TAGS:
+            return
+        a = {k: (v or "") for k, v in attrs}
+        skip = (tag in _NOT_PROSE_TAGS or bool(set(a.get("class", "").split())
+                                               & _NOT_PROSE_CLASSES))
+        parent = self._stack[-1] if self._stack else False
+        if skip != parent:
+            self._flush()
+        self._stack.append(parent or skip)
+
+    def handle_endtag(self, tag):
+        if tag in _VOID_TAGS:
+            return
+        if self._stack:
+            was = self._stack.pop()
+            if was != (self._stack[-1] if self._stack else False):
+                self._flush()
+        if tag in ("p", "a", "li", "td", "th", "title", "h1", "h2", "h3", "h4", "h5", "h6",
+                   "dt", "dd", "div", "span"):
+            self._flush()
+
+    def handle_data(self, data):
+        if not (self._stack and self._stack[-1]):
+            self._buf.append(data)
+
+    def close(self):
+        super().close()
+        self._flush()
+
+
+def raw_markup_in_html(text: str) -> list[tuple[str, str]]:
+    parser = _ProseText()
+    parser.feed(text)
+    parser.close()
+    return [hit for chunk in parser.chunks for hit in find_raw_markup(chunk)]
+
+
+def raw_markup_in_search_index(text: str) -> list[tuple[str, str]]:
+    """Raw markup in the page and section titles of a Sphinx ``searchindex.js``."""
+    import json
+
+    start, end = text.find("{"), text.rfind("}")
+    data = json.loads(text[start:end + 1])
+    titles = list(data.get("titles", [])) + list(data.get("alltitles", {}))
+    return [hit for t in titles for hit in find_raw_markup(t)]
+
+
+def check_markup(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict[str, int]]:
+    """Scan every page and the search index for unrendered markup: (problems, counts)."""
+    html_dir = Path(html_dir)
+    problems: list[str] = []
+    counts: dict[str, int] = {}
+    for path in list_pages(html_dir):
+        rel = path.relative_to(html_dir).as_posix()
+        hits = raw_markup_in_html(path.read_text(encoding="utf-8", errors="replace"))
+        counts[rel] = len(hits)
+        problems += [f"page {rel}: unrendered markup ({kind}): {ex!r}" for kind, ex in hits]
+    index = html_dir / "searchindex.js"
+    if index.is_file():
+        hits = raw_markup_in_search_index(index.read_text(encoding="utf-8"))
+        counts["searchindex.js"] = len(hits)
+        problems += [f"searchindex.js: unrendered markup in a title ({kind}): {ex!r}"
+                     for kind, ex in hits]
+    else:
+        problems.append("searchindex.js missing: the search index cannot be checked")
+    return problems, counts
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -2,6 +2,7 @@
 
     python tools/build_book.py --profile paper            # the published site: _build/html
     python tools/build_book.py --profile fast --strict    # the test build: _build/fast/_build/html
+    python tools/build_book.py --profile paper --edition student  # no solutions: _build/student
 
 Two stages:
 
@@ -51,6 +52,9 @@ import procs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
+#: The student edition (book/_ext/student_edition.py) builds apart, so it never overwrites the
+#: instructor's site nor shares its execution cache key.
+STUDENT_OUTPUTS = {"paper": ROOT / "_build" / "student", "fast": ROOT / "_build" / "fast-student"}
 FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml",
                       "book/_ext", "tools/build_book.py"]
 STAMP = ".fusioncenter-fingerprint"
@@ -68,8 +72,8 @@ LONGEST = ("book/zheng2014/particle-filter", "book/zheng2014/nonlinear",
 _STAGE = ["preparing"]
 
 
-def fingerprint(profile: str) -> str:
-    h = hashlib.sha256(f"profile={profile}\n".encode())
+def fingerprint(profile: str, edition: str = "instructor") -> str:
+    h = hashlib.sha256(f"profile={profile}\nedition={edition}\n".encode())
     for rel in FINGERPRINT_INPUTS:
         path = ROOT / rel
         if not path.exists():
@@ -83,19 +87,20 @@ def fingerprint(profile: str) -> str:
     return h.hexdigest()
 
 
-def prepare(out: Path, profile: str) -> str:
+def prepare(out: Path, profile: str, edition: str = "instructor") -> str:
     """Wipe ``out/_build`` unless its fingerprint is current; remove the fingerprint (it is
     written back by :func:`finish` after a successful build). Returns the fingerprint."""
     build = out / "_build"
     stamp = build / STAMP
-    want = fingerprint(profile)
+    want = fingerprint(profile, edition)
     have = stamp.read_text().strip() if stamp.exists() else None
     if have != want and build.exists():
         why = "inputs changed since" if have else "no record of a finished"
         print(f"build_book: {why} {profile} build; removing {build.relative_to(ROOT)} "
               f"(HTML, doctrees, execution and compute caches)", file=sys.stderr)
         for child in build.iterdir():
-            if out == ROOT and child.name in ("fast", "test-reports"):
+            if out == ROOT and child.name in ("fast", "test-reports", "student",
+                                              "fast-student"):
                 continue  # the fast build and test reports live in the paper build's folder
             shutil.rmtree(child) if child.is_dir() else child.unlink()
     build.mkdir(parents=True, exist_ok=True)
@@ -233,6 +238,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=None,
                     help="chapters executed at once (default: the number of cores)")
     ap.add_argument("--execute-one", nargs=2, metavar=("SRC", "DEST"), help=argparse.SUPPRESS)
+    ap.add_argument("--edition", choices=["instructor", "student"], default="instructor",
+                    help="student: leave the exercises' solutions out (FUSIONCENTER_EDITION)")
     args = ap.parse_args(argv)
     if args.execute_one:
         return execute_one(Path(args.execute_one[0]), Path(args.execute_one[1]))
@@ -242,13 +249,14 @@ def main(argv: list[str] | None = None) -> int:
     if jobs < 1:
         ap.error("--jobs must be >= 1")
 
-    out = OUTPUTS[args.profile]
+    out = (STUDENT_OUTPUTS if args.edition == "student" else OUTPUTS)[args.profile]
     procs.install_handlers(_on_interrupt(out))
     t_all = time.perf_counter()
-    want = prepare(out, args.profile)
+    want = prepare(out, args.profile, args.edition)
     # registry results are shared between chapters through a folder that prepare() wipes with
     # the rest of the build when the fingerprint changes
     env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, PYTHONHASHSEED="0",
+               FUSIONCENTER_EDITION=args.edition,
                FUSIONCENTER_COMPUTE_CACHE=str(out / "_build" / "compute-cache"))
     times: dict = {"jobs": jobs}
 

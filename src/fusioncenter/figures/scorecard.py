@@ -1,24 +1,85 @@
-"""The reproduction scorecard, generated from the registry (never written by hand)."""
+"""The reproduction scorecard and the index of figures, generated from the registry.
+
+Neither is ever written by hand. Both emit MyST markdown meant for a text column about 700 px
+wide: a narrow table whose first column is the link to the chapter section that reproduces the
+entry, and the long texts (caption, note, registry id) in a collapsed block under it.
+"""
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 
 from fusioncenter.figures.registry import PAPERS, entries
 
+__all__ = ["paper_reference", "scorecard_markdown", "figure_index_markdown", "status_counts"]
 
-def _link(entry) -> str:
+_ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 7: "VII", 8: "VIII", 9: "IX",
+          10: "X"}
+
+
+def paper_reference(entry) -> str:
+    """How the paper itself names the entry: ``"Fig. 3(a)"``, ``"Table II"``.
+
+    Derived from the registry id (``leong2011-fig3a``, ``zheng2014-table2``). An entry that is
+    not one of the paper's own figures or tables (the book's additions, variants such as
+    ``zheng2014-table1-choices``) gives ``"book's own"``.
+    """
+    suffix = entry.id[len(entry.paper) + 1:] if entry.id.startswith(entry.paper + "-") else ""
+    m = re.fullmatch(r"fig(\d+)([a-z]?)", suffix)
+    if m:
+        return f"Fig. {m.group(1)}" + (f"({m.group(2)})" if m.group(2) else "")
+    m = re.fullmatch(r"table(\d+)", suffix)
+    if m and int(m.group(1)) in _ROMAN:
+        return f"Table {_ROMAN[int(m.group(1))]}"
+    return "book's own"
+
+
+def _link(entry, text: str | None = None) -> str:
     if entry.label:
-        return f"{{ref}}`{entry.label}`"
-    return f"{{doc}}`/{entry.chapter}`"
+        return f"{{ref}}`{text} <{entry.label}>`" if text else f"{{ref}}`{entry.label}`"
+    return f"{{doc}}`{text} </{entry.chapter}>`" if text else f"{{doc}}`/{entry.chapter}`"
 
 
 def _cell(text: str) -> str:
     return " ".join(str(text).split()).replace("|", "\\|")
 
 
+def _plain(text: str) -> str:
+    """Registry prose as literal MyST text: no emphasis from ``_`` or ``*``, no roles."""
+    text = " ".join(str(text).split())
+    return re.sub(r"([\\`*_{}\[\]<>#|$])", r"\\\1", text)
+
+
+def _rows(paper: str | None):
+    if paper is not None and paper not in PAPERS:
+        raise ValueError(f"paper must be one of {sorted(PAPERS)}, got {paper!r}")
+    return [e for e in entries() if paper is None or e.paper == paper]
+
+
+def _name(entry, with_paper: bool) -> str:
+    ref = paper_reference(entry)
+    return f"{entry.paper} {ref}" if with_paper else ref
+
+
+def _details(rows, with_paper: bool, title: str) -> str:
+    """A collapsed block: per entry its registry id, caption and note."""
+    lines = [f":::{{admonition}} {title}", ":class: dropdown", ""]
+    for e in rows:
+        lines += [f"`{e.id}` ({_name(e, with_paper)}, {e.kind}, **{e.status}**)",
+                  f": {_plain(e.caption)}", ""]
+        if e.note:
+            lines += [f"  *Note:* {_plain(e.note)}", ""]
+    lines.append(":::")
+    return "\n".join(lines)
+
+
 def scorecard_markdown(paper: str | None = None) -> str:
-    """The scorecard table of the registry's entries, as MyST Markdown.
+    """The scorecard of one paper's entries (or of all): a narrow table, details collapsed.
+
+    The table has three columns: the link to the section that reproduces the entry (named as
+    the paper names it), its status, and the chapter. The caption, the note and the registry id
+    of every entry follow in a collapsed block.
 
     Parameters
     ----------
@@ -29,8 +90,7 @@ def scorecard_markdown(paper: str | None = None) -> str:
     Returns
     -------
     str
-        A table with one row per entry (paper, id, caption, status, note and a link to the
-        chapter section that reproduces it), in the registry's order; or one italic sentence if
+        The table and the collapsed block, in the registry's order; or one italic sentence if
         the paper has no entries.
 
     Raises
@@ -38,20 +98,46 @@ def scorecard_markdown(paper: str | None = None) -> str:
     ValueError
         If ``paper`` is not a known paper.
     """
-    if paper is not None and paper not in PAPERS:
-        raise ValueError(f"paper must be one of {sorted(PAPERS)}, got {paper!r}")
-    rows = [e for e in entries() if paper is None or e.paper == paper]
+    rows = _rows(paper)
     if not rows:
         return "*No registry entries for this paper yet: its part's issue adds them.*"
-    lines = [
-        "| paper | id | figure / table | status | note | where |",
-        "| --- | --- | --- | --- | --- | --- |",
-    ]
+    with_paper = paper is None
+    lines = ["| reproduced in | status | chapter |", "| --- | --- | --- |"]
     for e in rows:
-        lines.append(
-            f"| {e.paper} | `{e.id}` | {_cell(e.caption)} | **{e.status}** | "
-            f"{_cell(e.note) or '—'} | {_link(e)} |"
-        )
+        if paper_reference(e) == "book's own":  # no paper number: the section names it
+            where = (f"{e.paper}, book's own" if with_paper else "book's own") + f": {_link(e)}"
+        else:
+            where = _link(e, _name(e, with_paper))
+        lines.append(f"| {where} | **{e.status}** | {{doc}}`/{e.chapter}` |")
+    return "\n".join(lines) + "\n\n" + _details(
+        rows, with_paper, "Captions, notes and registry ids of these entries")
+
+
+def figure_index_markdown(paper: str) -> str:
+    """The index of one paper's figures: paper figure -> chapter section -> registry id.
+
+    Parameters
+    ----------
+    paper : str
+        A key of :data:`~fusioncenter.figures.registry.PAPERS`.
+
+    Returns
+    -------
+    str
+        A three-column MyST table (the paper's name of the figure, a link to the section that
+        reproduces it, the registry id), or one italic sentence if the paper has no entries.
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is not a known paper.
+    """
+    rows = _rows(paper)
+    if not rows:
+        return "*No registry entries for this paper yet.*"
+    lines = ["| paper's figure | reproduced in | registry id |", "| --- | --- | --- |"]
+    for e in rows:
+        lines.append(f"| {_cell(paper_reference(e))} | {_link(e)} | `{e.id}` |")
     return "\n".join(lines)
 
 
