@@ -363,13 +363,40 @@ def test_scenario_defaults_are_the_papers_and_choices_are_stated():
 
 @pytest.mark.parametrize("kwargs, name", [({"N": 0}, "N"), ({"N": 1.5}, "N"), ({"r": 0.0}, "r"),
                                           ({"r": -1.0}, "r"), ({"r": (1.0, -1.0)}, "r"),
-                                          ({"sigma2": 0.0}, "sigma2"), ({"sigma2": -4}, "sigma2"),
+                                          ({"sigma2": -4}, "sigma2"),
+                                          ({"sigma2": float("nan")}, "sigma2"),
                                           ({"T": 0}, "T"), ({"x0": (1, 2, 3)}, "x0"),
                                           ({"P0": -np.eye(2)}, "P0"), ({"h": (0, 0)}, "h"),
                                           ({"feedback_moments": "x"}, "feedback_moments")])
 def test_scenario_validation(kwargs, name):
     with pytest.raises(ValueError, match=name):
         cs.LinearScenario(**kwargs)
+
+
+def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
+    """sigma2 = 0 (no process noise) with a known start: the target moves at constant velocity,
+    every local filter's covariance stays 0 (exact knowledge) and the fusion centre's particles
+    all sit on the true track, so the position error is exactly 0 for every scheme."""
+    sc = cs.LinearScenario(sigma2=0.0, T=5)
+    x, z = sc.sample(np.random.default_rng(1), 3)
+    truth = sc.x0[0] + sc.x0[1] * np.arange(sc.T + 1)
+    np.testing.assert_allclose(x[..., 0], np.broadcast_to(truth, x.shape[:-1]), rtol=0,
+                               atol=1e-12)
+    assert np.all(np.isfinite(z))
+    for scheme in ("all-send", "cfwmd", "cfomd", "random"):
+        rmse = cs.run(sc, scheme, l=1, n_trials=4, n_particles=20, seed=3).rmse_position
+        assert np.all(np.isfinite(rmse.value)) and np.max(rmse.value) < 1e-9, (scheme, rmse)
+
+
+@pytest.mark.parametrize("l", [np.array(1.0), np.float64(1.0), np.int64(1), 1])
+def test_threshold_takes_numpy_scalars_and_0d_arrays(l):
+    assert cs.threshold(l, 2) == cs.threshold(1.0, 2)
+
+
+@pytest.mark.parametrize("l", [np.array([1.0]), True, np.bool_(True), "1", float("nan"), 0, 3])
+def test_threshold_rejects_non_numbers_and_out_of_range(l):
+    with pytest.raises(ValueError, match="l "):
+        cs.threshold(l, 2)
 
 
 def test_local_filters_match_filterpy_and_cross_covariance_recursion():

@@ -35,10 +35,17 @@ def threshold(l, N, dof: int = 1) -> float:
     """
     N = _posint("N", N)
     dof = _posint("dof", dof)
-    if isinstance(l, bool) or not np.isscalar(l) or not np.isfinite(l) or not 0 < l <= N:
-        raise ValueError(f"l (average number of sending sensors) must lie in (0, N] = (0, {N}], "
-                         f"got {l!r}")
-    return float(scipy.stats.chi2.isf(float(l) / N, dof))
+    bad = ValueError(f"l (average number of sending sensors) must be a number in (0, N] = "
+                     f"(0, {N}], got {l!r}")
+    if isinstance(l, bool | np.bool_ | str | bytes) or np.ndim(l) != 0:  # 0-d array: a number
+        raise bad
+    try:
+        lf = float(l)
+    except (TypeError, ValueError):
+        raise bad from None
+    if not np.isfinite(lf) or not 0 < lf <= N:
+        raise bad
+    return float(scipy.stats.chi2.isf(lf / N, dof))
 
 
 # ----------------------------------------------------------------------------- censored probability

@@ -10,6 +10,7 @@ import numpy as np
 
 from fusioncenter import particle
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
 
@@ -181,7 +182,8 @@ class LinearScenario(Scenario):
         N = _posint("N", self.N)
         _posint("T", self.T)
         dt = float(_positive("dt", self.dt))
-        sigma2 = float(_positive("sigma2", self.sigma2))
+        # sigma2 = 0 is deterministic motion (constant velocity): Q = 0 is a valid covariance
+        sigma2 = float(_nonneg("sigma2", self.sigma2))
         r = _positive("r", self.r)
         if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
             raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "
