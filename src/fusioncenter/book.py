@@ -10,8 +10,8 @@ from fusioncenter import figures, plotting
 from fusioncenter.glue import glue
 from fusioncenter.profile import ENV_VAR, current_profile
 
-__all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "glue", "markdown_table",
-           "md_table", "min_eig", "pm", "reproduce", "setup", "show"]
+__all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "glue",
+           "markdown_table", "md_table", "min_eig", "pm", "reproduce", "setup", "show"]
 
 #: Metadata key under which :func:`reproduce` stores what the site's figure directive needs.
 FIGURE_METADATA = "fusioncenter"
