@@ -206,3 +206,16 @@ def test_reader_notebook_reports_what_it_cannot_resolve():
     assert any("unresolved {doc}" in p for p in problems)
     assert any("no glued value 'missing'" in p for p in problems)
     assert any("unknown role {foo}" in p for p in problems)
+
+
+def test_reader_notebook_links_library_names_to_the_api_page():
+    resolver = _resolver()
+    resolver.doc = lambda t: Link("S/book/api.html", "API") if t == "/book/api" else None
+    out, problems = reader_notebook(
+        _executed_notebook("{py:func}`riccati.riccati_step <fusioncenter.riccati.riccati_step>`"
+                           " and {py:class}`~fusioncenter.particle.FilterModel`"),
+        resolver, page_url="S", book_title="B", version="1")
+    assert problems == []
+    text = out["cells"][2]["source"]
+    assert "[`riccati.riccati_step`](S/book/api.html#fusioncenter.riccati.riccati_step)" in text
+    assert "[`FilterModel`](S/book/api.html#fusioncenter.particle.FilterModel)" in text

@@ -28,7 +28,8 @@ from student_path import build_wheel  # noqa: E402
 
 VERSIONS = ["3.12", "3.13"]
 # tests of the repository and the book (Jupyter Book, jupytext, nbval, the built site)
-NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py",
+NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "test_api_page.py",
+               "test_interrupts.py",
                "test_student_path.py", "golden", "site"]
 
 

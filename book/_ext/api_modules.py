@@ -122,44 +122,70 @@ def restore_prose(app, what, name, obj, options, lines) -> None:
         lines[:] = _PROSE.pop(name)
 
 
-def resolve_imported(app, env, node, contnode):
-    """Resolve a short Python reference to a name the referring module imported.
+def _home(obj, namespace_module, target, domain) -> str | None:
+    """The documented full name of ``obj`` (found as ``target`` in a module's namespace)."""
+    if getattr(obj, "__module__", None) and getattr(obj, "__qualname__", None):
+        return f"{obj.__module__}.{obj.__qualname__}"
+    if isinstance(obj, type(sys)):
+        return obj.__name__
+    for full in domain.objects:
+        mod, _, attr = full.rpartition(".")
+        if attr == target.rpartition(".")[2] and mod in sys.modules and \
+                getattr(sys.modules[mod], attr, None) is obj:
+            return full
+    return None
 
-    ``:data:`SCHEMES``` in a module that did ``from fusioncenter.censoring import SCHEMES`` (or
-    uses a module alias) is looked up in that module's namespace; if the object found is
-    documented elsewhere (a function or class by its ``__module__``, a constant by identity), the
-    reference points there. Anything else stays unresolved, and the nitpicky build reports it.
-    """
-    if node.get("refdomain") != "py" or not node.get("py:module"):
-        return None
-    target = node["reftarget"].lstrip("~.")
+
+def _lookup(module: str, target: str):
     try:
-        namespace = importlib.import_module(node["py:module"])
+        obj = importlib.import_module(module)
     except ImportError:
         return None
-    head, _, rest = target.partition(".")
-    obj = getattr(namespace, head, None)
-    for part in rest.split(".") if rest else ():
+    for part in target.split("."):
         obj = getattr(obj, part, None)
-    if obj is None:
+        if obj is None:
+            return None
+    return obj
+
+
+def resolve_imported(app, env, node, contnode):
+    """Resolve a Python reference to where the object is documented.
+
+    ``:data:`SCHEMES``` in a module that did ``from fusioncenter.censoring import SCHEMES`` (or
+    uses a module alias) is looked up in that module's namespace, then in its parent packages';
+    a dotted target such as ``fusioncenter.censoring.run`` (a package that re-exports a
+    submodule's name) is imported as written. If the object found is documented elsewhere (a
+    function or class by its ``__module__``, a constant by identity), the reference points
+    there. Last, a bare name documented exactly once in the library (an autosummary line has no
+    current module) resolves to that one object. Anything else stays unresolved, and the
+    nitpicky build reports it.
+    """
+    if node.get("refdomain") != "py":
         return None
+    target = node["reftarget"].lstrip("~.")
     domain = env.get_domain("py")
-    home = None
-    if getattr(obj, "__module__", None) and getattr(obj, "__qualname__", None):
-        home = f"{obj.__module__}.{obj.__qualname__}"
-    elif isinstance(obj, type(namespace)):
-        home = obj.__name__
-    else:
-        for full in domain.objects:
-            mod, _, attr = full.rpartition(".")
-            if attr == target.rpartition(".")[2] and mod in sys.modules and \
-                    getattr(sys.modules[mod], attr, None) is obj:
-                home = full
-                break
-    if home is None or home not in domain.objects:
-        return None
-    return domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"], home, node,
-                               contnode)
+    candidates = []
+    module = node.get("py:module") or ""
+    while module:
+        candidates.append((module, target))
+        module = module.rpartition(".")[0]
+    parts = target.split(".")
+    candidates += [(".".join(parts[:i]), ".".join(parts[i:])) for i in range(len(parts) - 1, 0, -1)]
+    for mod, rest in candidates:
+        obj = _lookup(mod, rest)
+        if obj is None:
+            continue
+        home = _home(obj, mod, rest, domain)
+        if home is not None and home in domain.objects:
+            return domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"], home,
+                                       node, contnode)
+    if "." not in target:
+        found = [full for full in domain.objects
+                 if full.startswith("fusioncenter.") and full.rpartition(".")[2] == target]
+        if len(found) == 1:
+            return domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"],
+                                       found[0], node, contnode)
+    return None
 
 
 #: Abbreviations after which autosummary's one-line summary must not stop ("Part II: Figs.").

@@ -144,6 +144,12 @@ class _Rewriter:
             return self._link(role, body)
         if role in ("math",):
             return f"${body}$"
+        if role.startswith("py:"):  # a library name: code, linked to its API reference entry
+            text, target = _split_explicit(body)
+            target = target.lstrip("~.")
+            shown = text or (target.rpartition(".")[2] if body.strip().startswith("~") else target)
+            page = self.r.doc("/book/api")
+            return f"[`{shown}`]({page.url}#{target})" if page else f"`{shown}`"
         if role in ("sub", "sup", "abbr", "term", "code", "kbd", "file", "samp"):
             return body
         self.problems.append(f"unknown role {{{role}}}")

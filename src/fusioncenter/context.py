@@ -27,7 +27,7 @@ profile's runs are too short to repay starting workers).
 
 Pools are started on first use and kept for the life of the process (one per spec), so that a
 chapter computing several entries starts its workers once; :func:`shutdown` stops them (also
-registered with :mod:`atexit`).
+registered with ``atexit``).
 """
 
 from __future__ import annotations

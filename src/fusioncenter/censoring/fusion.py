@@ -412,8 +412,9 @@ class LinearFusionCentre:
 
     # --- FilterModel
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
-        """``(n, P, 2)`` draws of ``x_0`` (:meth:`LinearGaussianDynamics.initial`), stored
-        component by component (:func:`fusioncenter.particle.by_component`)."""
+        """``(n, P, 2)`` draws of ``x_0``
+        (:meth:`fusioncenter.particle.LinearGaussianDynamics.initial`), stored component by
+        component (:func:`fusioncenter.particle.by_component`)."""
         return particle.by_component(self.sc.dynamics.initial(rng, n, P))
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:

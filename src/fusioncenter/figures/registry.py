@@ -59,7 +59,8 @@ PAPERS: dict[str, tuple[str, str]] = {
 
 STATUSES = ("not-started", "reproduced", "differs")
 
-#: Environment variable naming a folder where :meth:`Entry.run_compute` keeps its results.
+#: Environment variable naming a folder where
+#: :meth:`fusioncenter.figures.registry.Entry.run_compute` keeps its results.
 CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
 
 

@@ -24,6 +24,16 @@ def paper_reference(entry) -> str:
     Derived from the registry id (``leong2011-fig3a``, ``zheng2014-table2``). An entry that is
     not one of the paper's own figures or tables (the book's additions, variants such as
     ``zheng2014-table1-choices``) gives ``"book's own"``.
+
+    Parameters
+    ----------
+    entry : Entry
+        A registry entry (its ``id`` and ``paper`` are read).
+
+    Returns
+    -------
+    str
+        ``"Fig. N"``, ``"Fig. N(x)"``, ``"Table R"`` (Roman numeral) or ``"book's own"``.
     """
     suffix = entry.id[len(entry.paper) + 1:] if entry.id.startswith(entry.paper + "-") else ""
     m = re.fullmatch(r"fig(\d+)([a-z]?)", suffix)
