@@ -143,7 +143,8 @@ def activate(ctx: ExecutionContext) -> Iterator[ExecutionContext]:
 
 
 def current() -> ExecutionContext | None:
-    """The active context, or ``None`` outside :meth:`Entry.run_compute`."""
+    """The active context, or ``None`` outside
+    :meth:`~fusioncenter.figures.registry.Entry.run_compute`."""
     return _CURRENT.get()
 
 

@@ -15,9 +15,9 @@ normal probabilities), :mod:`~fusioncenter.censoring.tables` (interpolation tabl
 :class:`~fusioncenter.censoring.scenarios.Scenario` base and :class:`LinearScenario`),
 :mod:`~fusioncenter.censoring.fusion` (the fusion-centre models of
 :func:`fusioncenter.particle.run_filter`), :mod:`~fusioncenter.censoring.results`
-(:class:`CensoringResult`), :mod:`~fusioncenter.censoring.dispatch` (:func:`run`, the one
-dispatcher), and for Part IV(b) :mod:`~fusioncenter.censoring.ellipse` (the vector silent
-probability), :mod:`~fusioncenter.censoring.vector`, :mod:`~fusioncenter.censoring.vector_fusion`
+(:class:`CensoringResult`), :mod:`~fusioncenter.censoring.dispatch`
+(:func:`~fusioncenter.censoring.dispatch.run`, the one dispatcher), and for Part IV(b)
+:mod:`~fusioncenter.censoring.ellipse` (the vector silent probability), :mod:`~fusioncenter.censoring.vector`, :mod:`~fusioncenter.censoring.vector_fusion`
 and :mod:`~fusioncenter.censoring.nonlinear`. The names below are re-exported here.
 
 Entry points (signature, one line each):

@@ -11,7 +11,7 @@
 * ``zheng2014-table1-choices`` (the book's own): Table I under the choices the paper leaves open.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
-:attr:`fusioncenter.censoring.LinearScenario.choices`). All runs go through
+:attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through
 :func:`fusioncenter.censoring.run`: for one seed the trials (truth and measurements) are shared
 by every scheme and every ``l`` of an entry, so differences between curves are paired.
 

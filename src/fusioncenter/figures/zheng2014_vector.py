@@ -10,7 +10,7 @@
   Proposition 6 as printed (it equals CFoMD: erratum) and with the exact no-feedback filter.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
-:attr:`fusioncenter.censoring_vector.VectorScenario.choices`). All runs go through
+:attr:`~fusioncenter.censoring.vector.VectorScenario.choices`). All runs go through
 :func:`fusioncenter.censoring_vector.run`: for one seed the trials (truth and measurements) are
 shared by every scheme and every ``l`` of an entry, so differences between curves are paired.
 The paper profile runs the trials on two worker processes (``OPENBLAS_NUM_THREADS=1``).
