@@ -17,7 +17,8 @@ normal probabilities), :mod:`~fusioncenter.censoring.tables` (interpolation tabl
 :func:`fusioncenter.particle.run_filter`), :mod:`~fusioncenter.censoring.results`
 (:class:`CensoringResult`), :mod:`~fusioncenter.censoring.dispatch`
 (:func:`~fusioncenter.censoring.dispatch.run`, the one dispatcher), and for Part IV(b)
-:mod:`~fusioncenter.censoring.ellipse` (the vector silent probability), :mod:`~fusioncenter.censoring.vector`, :mod:`~fusioncenter.censoring.vector_fusion`
+:mod:`~fusioncenter.censoring.ellipse` (the vector silent probability),
+:mod:`~fusioncenter.censoring.vector`, :mod:`~fusioncenter.censoring.vector_fusion`
 and :mod:`~fusioncenter.censoring.nonlinear`. The names below are re-exported here.
 
 Entry points (signature, one line each):
