@@ -1,4 +1,5 @@
-"""The one dispatcher :func:`run`: a linear, vector or nonlinear scenario to its fusion centre."""
+"""The one dispatcher :func:`~fusioncenter.censoring.dispatch.run`: a linear, vector or nonlinear
+scenario to its fusion centre."""
 
 from __future__ import annotations
 
