@@ -178,7 +178,7 @@ def _write_data(app, exc):
         # reads the very data the chapter plotted; without it, the entry is computed again
         data = figures.get(entry_id).run_compute(profile, None if seed == figures.get(
             entry_id).seed else seed)
-        js.write_text(json.dumps(cli._jsonable(data)) + "\n")
+        js.write_text(cli.dumps(data) + "\n")
         cli.write_csv(data, csv)
     LOGGER.info(f"registry_figure: data of {len(todo)} figures in {folder}")
 
