@@ -25,7 +25,6 @@ page):
 from __future__ import annotations
 
 import html
-import json
 import re
 from pathlib import Path
 
