@@ -27,9 +27,10 @@ sys.path.insert(0, str(ROOT / "tools"))
 from student_path import build_wheel  # noqa: E402
 
 VERSIONS = ["3.12", "3.13"]
-# tests of the repository and the book (Jupyter Book, jupytext, nbval, the built site)
+# tests of the repository (its source tree, tools and structure) and of the book (Jupyter Book,
+# jupytext, nbval, the built site)
 NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "test_api_page.py",
-               "test_interrupts.py",
+               "test_interrupts.py", "test_structure.py",
                "test_student_path.py", "golden", "site"]
 
 
