@@ -175,6 +175,39 @@ class ExactFusionCentre(ExactModel):
 _SUB_PARTICLES = 1 << 15
 
 
+def decisions_in_advance(scheme: str, feedback: str, l, sel_u: np.ndarray, shape: tuple,
+                         local) -> np.ndarray:
+    """The sensors' decisions ``sent (n, T, N)`` that do not depend on the FC's broadcast.
+
+    Parameters
+    ----------
+    scheme, feedback : str
+        The run's scheme and feedback (``"none"``, ``"state"``, ``"state+cov"``).
+    l : float
+        The target average number of sending sensors (random selection sends with ``l / N``).
+    sel_u : numpy.ndarray
+        ``(n, T, N)`` uniform draws of random selection.
+    shape : tuple
+        ``(n, T, N)``.
+    local : callable
+        No arguments; the censoring decisions of the sensors' own filters (no feedback).
+
+    Returns
+    -------
+    numpy.ndarray
+        Boolean ``(n, T, N)``: the local decisions for censoring without feedback, ``sel_u <
+        l / N`` for random selection, all true for all-send, and all false for censoring with
+        feedback (filled step by step by the fusion centre).
+    """
+    if scheme in ("cfomd", "cfwmd") and feedback == "none":
+        return local()
+    if scheme == "random":
+        return sel_u < l / shape[-1]
+    if scheme == "all-send":
+        return np.ones(shape, dtype=bool)
+    return np.zeros(shape, dtype=bool)
+
+
 def _local_decisions(sc: LinearScenario, eta: float, z: np.ndarray) -> np.ndarray:
     """No feedback: every sensor runs its own KF; ``sent (n, T, N)`` from its innovations."""
     loc = sc.local_filters()
@@ -269,14 +302,8 @@ class LinearFusionCentre:
         self.need_cov = self.fb and feedback == "state+cov" and self.analytic
         self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, 2)).copy()
         self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q, (n, 2, 2)).copy()
-        if self.censor and feedback == "none":
-            self.sent = _local_decisions(sc, eta, z)
-        elif scheme == "random":
-            self.sent = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent = np.ones((n, T, N), dtype=bool)
-        else:
-            self.sent = np.zeros((n, T, N), dtype=bool)
+        self.sent = decisions_in_advance(scheme, feedback, l, sel_u, (n, T, N),
+                                         lambda: _local_decisions(sc, eta, z))
         self.nf_region = scheme == "cfwmd" and feedback == "none"
         self.needs_cov = self.need_cov
         self._tmp = np.empty((n, 0))

@@ -46,14 +46,8 @@ class _VectorFC(fusion.FeedbackModel):
         self.censor = scheme in ("cfomd", "cfwmd")
         self.fb = self.censor and feedback != "none"
         self.needs_cov = self.fb and feedback == "state+cov" and sc.feedback_moments == "analytic"
-        if self.censor and feedback == "none":
-            self.sent = local_decisions(sc, eta, z)
-        elif scheme == "random":
-            self.sent = sel_u < l / N
-        elif scheme == "all-send":
-            self.sent = np.ones((n, T, N), dtype=bool)
-        else:
-            self.sent = np.zeros((n, T, N), dtype=bool)
+        self.sent = fusion.decisions_in_advance(scheme, feedback, l, sel_u, (n, T, N),
+                                                lambda: local_decisions(sc, eta, z))
         # received likelihood per group: whitened particles x @ G and measurements
         self.white = {}
         for g in self.groups:
