@@ -3,6 +3,7 @@
     python benchmarks/bench_book.py                      # paper profile, fresh clone, fresh venv
     python benchmarks/bench_book.py --profile fast       # the test build instead
     python benchmarks/bench_book.py --venv .venv         # reuse an environment (no bootstrap)
+    python benchmarks/bench_book.py --keep /work/b2      # keep the clone and its venv there
 
 What ``make book`` does on a fresh machine: the working tree's committed state (``git clone`` of
 HEAD into a temporary folder, so no ``_build`` and no caches), ``tools/bootstrap.sh`` into a new
@@ -24,6 +25,7 @@ This is not a ``CASES`` benchmark (one build takes minutes): ``benchmarks/run.py
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import subprocess
@@ -42,9 +44,13 @@ def _timed(cmd: list[str], **kw) -> float:
     return time.perf_counter() - t0
 
 
-def bench(profile: str = "paper", venv: str | None = None, jobs: int | None = None) -> dict:
+def bench(profile: str = "paper", venv: str | None = None, jobs: int | None = None,
+          keep: str | None = None) -> dict:
     load0 = os.getloadavg()
-    with tempfile.TemporaryDirectory(prefix="bench-book-") as tmp:
+    if keep is not None:
+        Path(keep).mkdir(parents=True, exist_ok=False)  # a new folder: never over earlier work
+    with (contextlib.nullcontext(keep) if keep else
+          tempfile.TemporaryDirectory(prefix="bench-book-")) as tmp:
         clone = Path(tmp) / "repo"
         subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
         t_all = time.perf_counter()
@@ -82,8 +88,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--profile", choices=("fast", "paper"), default="paper")
     ap.add_argument("--venv", default=None, help="reuse this environment (skip the bootstrap)")
     ap.add_argument("--jobs", type=int, default=None)
+    ap.add_argument("--keep", default=None, metavar="DIR",
+                    help="build in this new folder and keep it (the clone in DIR/repo, the "
+                         "environment in DIR/venv), e.g. to look at the built site")
     args = ap.parse_args(argv)
-    res = bench(args.profile, args.venv, args.jobs)
+    res = bench(args.profile, args.venv, args.jobs, args.keep)
     prep = res["build_s"] - res["execution_s"] - res["rendering_s"]
     print(json.dumps(res, indent=1))
     print(f"\n[{res['profile']}] total {res['total_s']:.0f} s = bootstrap {res['bootstrap_s']:.0f}"
