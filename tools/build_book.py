@@ -14,8 +14,10 @@ Two stages:
 2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
 
 Registry results are shared between the chapters (and their parallel kernels) through
-``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``). The executor of the
-heavy entries is ``FUSIONCENTER_EXECUTOR`` if set, else the library's default.
+``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``): a folder of the build,
+wiped with it, or the one ``--compute-cache`` names (whoever passes it keeps it current).
+The executor of the heavy entries is ``FUSIONCENTER_EXECUTOR`` if set, else the library's
+default.
 
 jupyter-cache keys a notebook's cached outputs on its cell sources only, so a change to the
 library (``src/``), to the pinned environment (``requirements/lock.txt``), to the configuration,
@@ -238,6 +240,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=None,
                     help="chapters executed at once (default: the number of cores)")
     ap.add_argument("--execute-one", nargs=2, metavar=("SRC", "DEST"), help=argparse.SUPPRESS)
+    ap.add_argument("--compute-cache", metavar="DIR", default=None,
+                    help="share registry results through DIR instead of the build's own "
+                         "folder (make test: one folder for the site build and nbval, emptied "
+                         "at the start of the run)")
     ap.add_argument("--edition", choices=["instructor", "student"], default="instructor",
                     help="student: leave the exercises' solutions out (FUSIONCENTER_EDITION)")
     args = ap.parse_args(argv)
@@ -257,7 +263,9 @@ def main(argv: list[str] | None = None) -> int:
     # the rest of the build when the fingerprint changes
     env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, PYTHONHASHSEED="0",
                FUSIONCENTER_EDITION=args.edition,
-               FUSIONCENTER_COMPUTE_CACHE=str(out / "_build" / "compute-cache"))
+               FUSIONCENTER_COMPUTE_CACHE=str(Path(args.compute_cache).resolve()
+                                              if args.compute_cache else
+                                              out / "_build" / "compute-cache"))
     times: dict = {"jobs": jobs}
 
     _STAGE[0] = "execution"

@@ -1,6 +1,6 @@
 """Run every test of the project (``make test``) and print one summary line with counts.
 
-Stages, in order (all run; the exit code is 1 if any failed):
+Stages (all run; the exit code is 1 if any failed):
 
 1. ruff        lint of src/, tests/, tools/, benchmarks/
 2. library     pytest on the library and the repository (not the site, not `slow`)
@@ -15,10 +15,16 @@ Python 3.12 (tools/student_path.py).
 
 A skipped test in the site stage counts as a failure: the browser check may not be skipped.
 
-Stages 2-3 (one after the other) and stage 4 run at the same time, one lane per core of the
-2-core machine: each executes notebooks or tests in a single process most of the time. Their
-output goes to ``_build/test-reports/<stage>.log`` and is printed whole when the stage ends.
-``FUSIONCENTER_TEST_LANES=1`` runs every stage one after the other instead.
+The stages after ruff run on two workers (one per core of the 2-core machine; each stage runs
+notebooks or tests in one process most of the time), each worker taking the first stage of this
+order whose inputs are ready: site build, library, nbval, pdf (after the site build), pythons,
+student (after the site build), site (after the site build and the pdf). The site build goes
+first because its chapters, executed in parallel, compute the registry entries that nbval's
+notebooks then read from the run's compute cache (``FUSIONCENTER_COMPUTE_CACHE``, a folder
+emptied at the start of every run, so nothing from an earlier run or another source tree is
+read; the data are bitwise the same either way). Output goes to
+``_build/test-reports/<stage>.log`` and is printed whole when the stage ends.
+``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order.
 
 Ctrl-C or SIGTERM stops every running stage with its whole process tree (kernels, jupyter-book,
 pytest workers: see ``tools/procs.py``), starts no further stage, prints which stages were
@@ -29,6 +35,7 @@ fingerprint, so the next run builds it from scratch.
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -104,25 +111,55 @@ def run(name: str, cmd: list[str], *, junit: Path | None = None, env: dict | Non
     return stage
 
 
-def lanes(*lane_fns) -> list[Stage]:
-    """Run each lane (a function returning its stages) in its own thread; stages in order."""
-    results: list[list[Stage]] = [[] for _ in lane_fns]
+@dataclass
+class Job:
+    """A stage to schedule: ``fn`` runs it; it starts once every stage in ``after`` has ended."""
+    name: str
+    fn: object
+    after: tuple[str, ...] = ()
+
+
+def schedule(jobs: list[Job], workers: int) -> list[Stage]:
+    """Run ``jobs`` on ``workers`` threads: each free worker takes the first job, in list
+    order, whose ``after`` stages have all ended (passed or failed: every stage runs and
+    reports). Returns the stages in list order."""
+    done: dict[str, Stage] = {}
+    todo = list(jobs)
+    cond = threading.Condition()
     errors: list[BaseException] = []
 
-    def body(i, fn):
-        try:
-            results[i] = fn()
-        except BaseException as exc:  # reported below: a crashed lane fails the run
-            errors.append(exc)
+    def ready():
+        return next((j for j in todo if all(a in done for a in j.after)), None)
 
-    threads = [threading.Thread(target=body, args=(i, fn)) for i, fn in enumerate(lane_fns)]
+    def worker():
+        while True:
+            with cond:
+                job = ready()
+                while job is None and todo and not errors:
+                    cond.wait()
+                    job = ready()
+                if job is None:
+                    return
+                todo.remove(job)
+            try:
+                stage = job.fn()
+            except BaseException as exc:  # reported below: a crashed stage fails the run
+                with cond:
+                    errors.append(exc)
+                    cond.notify_all()
+                return
+            with cond:
+                done[job.name] = stage
+                cond.notify_all()
+
+    threads = [threading.Thread(target=worker) for _ in range(max(1, workers))]
     for t in threads:
         t.start()
     for t in threads:
         t.join()
     if errors:
         raise errors[0]
-    return [stage for lane in results for stage in lane]
+    return [done[j.name] for j in jobs]
 
 
 def _on_interrupt(signum: int, stages: list[str]) -> None:
@@ -143,34 +180,38 @@ def main() -> int:
     t0 = time.perf_counter()
     parallel = os.environ.get("FUSIONCENTER_TEST_LANES", "2") != "1"
 
-    def tests_lane():
-        return [
-            run("library", [*pytest, "tests", "-m", "not site and not slow",
-                            "--ignore=tests/golden", f"--junitxml={REPORTS / 'library.xml'}"],
-                junit=REPORTS / "library.xml", env=fast, log=parallel),
-            run("nbval", [*pytest, "--nbval", "--nbval-current-env",
-                          "--nbval-sanitize-with", "tests/golden/sanitize.cfg", "tests/golden",
-                          f"--junitxml={REPORTS / 'nbval.xml'}"],
-                junit=REPORTS / "nbval.xml", env=fast, log=parallel),
-            run("pythons", [PY, "tools/test_pythons.py", "3.12"], log=parallel),
-        ]
-
-    def build_lane():
-        return [run("site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict"],
-                    log=parallel),
-                run("pdf", [PY, "tools/pdf_book.py", "--site", str(site)], log=parallel),
-                run("student", [PY, "tools/student_path.py", "--site", str(site)], log=parallel)]
-
+    # the registry results of this run, shared by the site build's chapters and nbval's
+    cache = REPORTS / "compute-cache"
+    shutil.rmtree(cache, ignore_errors=True)
+    cache.mkdir(parents=True)
+    shared = {**fast, "FUSIONCENTER_COMPUTE_CACHE": str(cache)}
+    jobs = [
+        Job("site build", lambda: run(
+            "site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict",
+                           "--compute-cache", str(cache)], log=parallel)),
+        Job("library", lambda: run(
+            "library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
+                        f"--junitxml={REPORTS / 'library.xml'}"],
+            junit=REPORTS / "library.xml", env=fast, log=parallel)),
+        Job("nbval", lambda: run(
+            "nbval", [*pytest, "--nbval", "--nbval-current-env", "--nbval-sanitize-with",
+                      "tests/golden/sanitize.cfg", "tests/golden",
+                      f"--junitxml={REPORTS / 'nbval.xml'}"],
+            junit=REPORTS / "nbval.xml", env=shared, log=parallel)),
+        Job("pdf", lambda: run("pdf", [PY, "tools/pdf_book.py", "--site", str(site)],
+                               log=parallel), after=("site build",)),
+        Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "3.12"],
+                                   log=parallel)),
+        Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
+                                   log=parallel), after=("site build",)),
+        Job("site", lambda: run(
+            "site", [*pytest, "tests/site", "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
+            junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
+            skips_fail=True, log=parallel), after=("site build", "pdf")),
+    ]
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                            "book/_ext"])]
-    if parallel:
-        stages += lanes(tests_lane, build_lane)
-    else:
-        stages += tests_lane() + build_lane()
-    stages.append(
-        run("site", [*pytest, "tests/site", "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
-            junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
-            skips_fail=True))
+    stages += schedule(jobs, 2 if parallel else 1)
     total = time.perf_counter() - t0
     print("\n===== make test summary")
     for s in stages:

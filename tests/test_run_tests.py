@@ -1,0 +1,49 @@
+"""``tools/run_tests.py``'s scheduler: every stage runs once, none before its inputs."""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tools"))
+import run_tests  # noqa: E402
+
+
+def _jobs(log, seconds):
+    lock = threading.Lock()
+
+    def make(name):
+        def fn():
+            with lock:
+                log.append(("start", name))
+            time.sleep(seconds[name])
+            with lock:
+                log.append(("end", name))
+            return run_tests.Stage(name, name != "b", seconds[name])
+        return fn
+
+    return [run_tests.Job("a", make("a")), run_tests.Job("b", make("b")),
+            run_tests.Job("c", make("c"), after=("a",)), run_tests.Job("d", make("d")),
+            run_tests.Job("e", make("e"), after=("a", "c"))]
+
+
+def test_the_order_and_the_dependencies_on_two_workers():
+    log: list = []
+    seconds = {"a": 0.3, "b": 0.05, "c": 0.05, "d": 0.05, "e": 0.01}
+    stages = run_tests.schedule(_jobs(log, seconds), 2)
+    assert [s.name for s in stages] == list("abcde")  # the list order, whatever ran first
+    assert [s.ok for s in stages] == [True, False, True, True, True]  # b failed, all ran
+    pos = {ev: i for i, ev in enumerate(log)}
+    assert pos[("start", "b")] < pos[("start", "d")]  # list order among the ready ones
+    assert pos[("end", "a")] < pos[("start", "c")] < pos[("end", "c")] < pos[("start", "e")]
+    assert pos[("start", "d")] < pos[("start", "c")]  # d did not wait for a: c could not start
+
+
+def test_one_worker_runs_them_one_after_the_other_in_order():
+    log: list = []
+    seconds = dict.fromkeys("abcde", 0.01)
+    run_tests.schedule(_jobs(log, seconds), 1)
+    assert [name for ev, name in log if ev == "start"] == list("abcde")
+    assert all(log[2 * i][1] == log[2 * i + 1][1] for i in range(5))  # never two at once
