@@ -29,7 +29,25 @@ def _inline_figures() -> None:
 
 
 def setup() -> str:
-    """Apply the plotting style and print (and return) the profile this chapter runs in."""
+    """Apply the plotting style and print (and return) the profile this chapter runs in.
+
+    A chapter's first cell calls it. In a Jupyter kernel it also selects the inline
+    matplotlib backend (whatever ``MPLBACKEND`` says); everywhere it applies
+    :func:`fusioncenter.plotting.use_style` and NumPy's print options ``precision=6,
+    suppress=True``.
+
+    Returns
+    -------
+    str
+        The profile, ``"fast"`` or ``"paper"``
+        (:func:`fusioncenter.profile.current_profile`), also printed with a hint on how to
+        change it.
+
+    Raises
+    ------
+    ValueError
+        If the environment variable ``FUSIONCENTER_PROFILE`` names an unknown profile.
+    """
     import numpy as np
 
     _inline_figures()
@@ -135,6 +153,36 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
     evidence: every claim with its value and verdict, as a collapsible table (plain text
     outside a notebook). Every claim is evaluated; if any fails, an ``AssertionError`` names
     the failed ones. Returns ``(data, figure)``.
+
+    Parameters
+    ----------
+    entry_id : str
+        The registry id, e.g. ``"dey2009-fig1"`` (``python -m fusioncenter list`` shows all).
+    profile : str, optional
+        ``"fast"`` or ``"paper"``; default :func:`fusioncenter.profile.current_profile`.
+    seed : int, optional
+        A non-negative seed; default the entry's own.
+
+    Returns
+    -------
+    data : dict
+        What the entry's ``compute`` returned
+        (:meth:`fusioncenter.figures.registry.Entry.run_compute`, with the executor of
+        :func:`fusioncenter.context.default_spec`).
+    figure : matplotlib.figure.Figure
+        What the entry's ``plot`` made of ``data``. Under IPython (a notebook) it has been
+        shown and closed (``plt.close``), so that it is not shown a second time.
+
+    Raises
+    ------
+    AssertionError
+        If a claim does not hold (after the evidence has been shown).
+    fusioncenter.figures.registry.UnknownEntry
+        If no entry has the id (a ``KeyError``).
+    fusioncenter.figures.registry.EntryNotReady
+        If the entry has no compute, plot or checks yet.
+    ValueError
+        If ``profile`` or ``seed`` is invalid.
     """
     entry = figures.get(entry_id)
     profile = current_profile() if profile is None else profile

@@ -7,10 +7,10 @@
     python -m fusioncenter verify ID [common options]
 
 Common options: ``--profile fast|paper`` (default: the environment variable
-FUSIONCENTER_PROFILE, else fast), ``--seed N``, ``--executor serial|processes[:N]|dask:local|
-dask:ADDRESS`` (default: FUSIONCENTER_EXECUTOR, else a process pool in the paper profile) and
-``--set KEY=VALUE`` (repeatable) for the entry's documented parameters (``params ID`` lists
-them). Flags win over the environment.
+FUSIONCENTER_PROFILE, else fast), ``--seed N``,
+``--executor serial|processes[:N]|dask:local|dask:ADDRESS`` (default: FUSIONCENTER_EXECUTOR,
+else a process pool in the paper profile) and ``--set KEY=VALUE`` (repeatable) for the entry's
+documented parameters (``params ID`` lists them). Flags win over the environment.
 
 Data go to stdout (or the named file), progress and messages to stderr. ``--json`` is strict
 JSON (RFC 8259): NumPy arrays become lists, NumPy scalars numbers, and the non-finite floats the
@@ -64,8 +64,22 @@ def _float(x: float):
 
 def jsonable(value):
     """``value`` as plain JSON types: arrays to lists, NumPy scalars to Python numbers,
-    non-finite floats to the strings of :data:`NONFINITE_JSON`, complex numbers to ``[re,
-    im]``; anything else that JSON cannot hold to its ``str``."""
+    non-finite floats to the strings of :data:`NONFINITE_JSON`, complex numbers to
+    ``[re, im]``; anything else that JSON cannot hold to its ``str``.
+
+    Parameters
+    ----------
+    value : object
+        Typically the dict a registry ``compute`` returns; nested dicts, lists, tuples, sets
+        and arrays are converted recursively.
+
+    Returns
+    -------
+    object
+        A ``dict`` (keys converted with ``str``), ``list``, ``str``, ``int``, ``float``
+        (finite), ``bool`` or ``None``, which ``json.dumps(..., allow_nan=False)`` accepts.
+        Tuples and sets become lists (a set in its iteration order).
+    """
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple | set | frozenset):
@@ -86,7 +100,18 @@ def jsonable(value):
 
 
 def dumps(value) -> str:
-    """Strict JSON of :func:`jsonable` ``(value)`` (``allow_nan=False``)."""
+    """Strict JSON of :func:`jsonable` ``(value)`` (``allow_nan=False``).
+
+    Parameters
+    ----------
+    value : object
+        What to encode (see :func:`jsonable`).
+
+    Returns
+    -------
+    str
+        One line of JSON (RFC 8259): no ``NaN`` or ``Infinity`` tokens.
+    """
     return json.dumps(jsonable(value), allow_nan=False)
 
 
@@ -96,6 +121,29 @@ def write_csv(data: dict, path: Path, run: dict | None = None) -> None:
     ``index`` is the element's position (``i`` or ``i;j;...`` for arrays of several axes), empty
     for scalars. Non-numeric values are written as JSON text; non-finite floats as ``nan``,
     ``inf``, ``-inf``. With ``run``, its items come first as rows ``_run,KEY,VALUE``.
+
+    Parameters
+    ----------
+    data : dict
+        Name to value, as a registry ``compute`` returns. Each value goes through
+        ``numpy.asarray``: a number or a numeric (or string) array gives one row per element;
+        a value NumPy can only hold as an ``object`` array (a dict, ``None``, a ragged list)
+        gives one row whose value is :func:`dumps` of it.
+    path : str or pathlib.Path
+        The file to write (created or overwritten).
+    run : dict, optional
+        How the data were computed (the ``"_run"`` record of the command line): a ``str`` or
+        ``int`` value is written as it is, anything else as :func:`dumps` of it.
+
+    Returns
+    -------
+    None
+        The CSV file is written, with the header row ``name,index,value``.
+
+    Raises
+    ------
+    OSError
+        If ``path`` cannot be opened for writing.
     """
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
@@ -264,6 +312,28 @@ def _main(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command line (``python -m fusioncenter``; see the module's description).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The exit code: 0 success, 1 a claim failed (``verify``), 2 bad usage (an unknown id,
+        an entry not ready, a ``ValueError`` such as a bad ``--set``, ``--seed`` or
+        ``--executor``), 3 a runtime or I/O error (an ``OSError`` or ``RuntimeError``), 130
+        interrupted. For codes 2, 3 and 130 one line ``error: ...`` goes to stderr instead of
+        a traceback.
+
+    Raises
+    ------
+    SystemExit
+        From ``argparse``, when the arguments do not parse (code 2, with its usage message)
+        or for ``--help`` (code 0).
+    """
     args = _parser().parse_args(argv)
     try:
         return _main(args)

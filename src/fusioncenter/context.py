@@ -55,7 +55,14 @@ THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
 
 
 def cores() -> int:
-    """The number of cores this process may use (at least 1)."""
+    """The number of cores this process may use (at least 1).
+
+    Returns
+    -------
+    int
+        The size of the process's CPU affinity set (``os.sched_getaffinity``), or where that
+        does not exist ``os.cpu_count()``; never less than 1.
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover (not Linux)
@@ -67,15 +74,22 @@ def parse_executor(spec: str) -> str:
 
     Parameters
     ----------
-    spec
-        ``serial``, ``processes``, ``processes:N`` (``N >= 1``), ``dask:local`` or
-        ``dask:ADDRESS``.
+    spec : str
+        ``serial``, ``processes``, ``processes:N`` (``N >= 1``, decimal digits only),
+        ``dask:local`` or ``dask:ADDRESS``. Blanks around the spec, and around what follows
+        ``dask:``, are ignored.
 
     Returns
     -------
     str
-        ``serial``, ``processes:N`` (``processes`` alone becomes ``processes:<cores>``),
-        ``dask:local`` or ``dask:ADDRESS``.
+        ``serial``, ``processes:N`` (``processes`` alone becomes ``processes:<cores>``, see
+        :func:`cores`; ``N`` without leading zeros), ``dask:local`` or ``dask:ADDRESS``.
+
+    Raises
+    ------
+    ValueError
+        If ``spec`` is not a string, if ``N`` is not an integer ``>= 1``, if nothing follows
+        ``dask:``, or if ``spec`` is none of the forms above.
     """
     if not isinstance(spec, str):
         raise ValueError(f"executor must be a string spec, got {spec!r}")
@@ -97,7 +111,27 @@ def parse_executor(spec: str) -> str:
 
 def default_spec(profile: str) -> str:
     """The executor used when none is given: :data:`EXECUTOR_ENV` if set, else
-    ``processes:<cores>`` for the ``paper`` profile on several cores, ``serial`` otherwise."""
+    ``processes:<cores>`` for the ``paper`` profile on several cores, ``serial`` otherwise.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``. It is checked only when :data:`EXECUTOR_ENV` is unset or
+        blank (a set variable decides alone).
+
+    Returns
+    -------
+    str
+        A normalised spec (see :func:`parse_executor`): the variable's value, else
+        ``processes:<cores>`` when ``profile`` is ``"paper"`` and :func:`cores` is above 1,
+        else ``serial``.
+
+    Raises
+    ------
+    ValueError
+        If :data:`EXECUTOR_ENV` holds an invalid spec (the message names the variable), or if
+        it is unset and ``profile`` is not a known profile.
+    """
     env = os.environ.get(EXECUTOR_ENV, "").strip()
     if env:
         try:
@@ -115,7 +149,26 @@ class ExecutionContext:
 
     ``profile`` and ``seed`` and ``parameters`` (the overrides of the entry's documented
     parameters) fix the data; ``executor`` (a spec of :func:`parse_executor`) only where the
-    Monte Carlo tasks run.
+    Monte Carlo tasks run. The object is frozen; it is made active with :func:`activate`.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"``.
+    seed : int
+        The seed of the compute (not validated here:
+        :meth:`~fusioncenter.figures.registry.Entry.run_compute` checks it is ``>= 0``).
+    executor : str, default "serial"
+        An executor spec; it is stored normalised by :func:`parse_executor` (``processes``
+        becomes ``processes:<cores>``).
+    parameters : dict, default {}
+        The parsed overrides of the entry's documented parameters, by name (see
+        :func:`check_overrides`); empty when none is overridden.
+
+    Raises
+    ------
+    ValueError
+        If ``profile`` is unknown or ``executor`` is not a valid spec.
     """
 
     profile: str
@@ -134,7 +187,22 @@ _CURRENT: contextvars.ContextVar[ExecutionContext | None] = contextvars.ContextV
 
 @contextlib.contextmanager
 def activate(ctx: ExecutionContext) -> Iterator[ExecutionContext]:
-    """Make ``ctx`` the active context inside the ``with`` block (nests; thread-safe)."""
+    """Make ``ctx`` the active context inside the ``with`` block (nests; thread-safe).
+
+    The context is held in a ``contextvars`` variable: setting it affects only the calling
+    thread (or asyncio task), and the previous context (``None`` at the top) is restored when
+    the block exits, also on an exception.
+
+    Parameters
+    ----------
+    ctx : ExecutionContext
+        The context to activate.
+
+    Yields
+    ------
+    ExecutionContext
+        ``ctx`` itself (``with activate(ctx) as c:``).
+    """
     token = _CURRENT.set(ctx)
     try:
         yield ctx
@@ -144,7 +212,14 @@ def activate(ctx: ExecutionContext) -> Iterator[ExecutionContext]:
 
 def current() -> ExecutionContext | None:
     """The active context, or ``None`` outside
-    :meth:`~fusioncenter.figures.registry.Entry.run_compute`."""
+    :meth:`~fusioncenter.figures.registry.Entry.run_compute`.
+
+    Returns
+    -------
+    ExecutionContext or None
+        The context of the innermost :func:`activate` block of this thread, ``None`` outside
+        every such block.
+    """
     return _CURRENT.get()
 
 
@@ -153,6 +228,21 @@ def executor() -> Executor | None:
 
     A compute passes it to :func:`fusioncenter.montecarlo.simulate` (or a ``run`` built on
     it). Outside any context (a direct call of a compute function) it is ``None``.
+
+    Returns
+    -------
+    concurrent.futures.Executor or None
+        ``None`` outside a context or when its spec is ``serial``. For ``processes:N``, a
+        ``concurrent.futures.ProcessPoolExecutor`` of ``N`` workers (``spawn`` start method,
+        one BLAS / OpenMP thread each, Ctrl-C ignored in the workers); for ``dask:...``, the
+        ``get_executor()`` of a ``dask.distributed.Client`` (of a new ``LocalCluster`` with
+        one single-threaded worker process per core for ``dask:local``). One pool per spec is
+        started on first use and reused until :func:`shutdown`.
+
+    Raises
+    ------
+    RuntimeError
+        If the scheduler of ``dask:ADDRESS`` cannot be reached (within 30 s).
     """
     ctx = current()
     if ctx is None or ctx.executor == "serial":
@@ -161,7 +251,21 @@ def executor() -> Executor | None:
 
 
 def workers() -> int:
-    """How many tasks the active executor runs at once (1 when serial)."""
+    """How many tasks the active executor runs at once (1 when serial).
+
+    Returns
+    -------
+    int
+        1 outside a context or when serial; ``N`` for ``processes:N``; for ``dask:...`` the
+        total threads of the scheduler's workers (at least 1), or :func:`cores` if the
+        scheduler cannot be asked. It is only a hint for cutting work into chunks.
+
+    Raises
+    ------
+    RuntimeError
+        If the scheduler of ``dask:ADDRESS`` cannot be reached (the pool is started here if
+        it was not yet).
+    """
     ctx = current()
     if ctx is None or ctx.executor == "serial":
         return 1
@@ -276,7 +380,15 @@ def _pool(spec: str):
 
 
 def shutdown() -> None:
-    """Stop every pool and cluster this process started (the next use starts them again)."""
+    """Stop every pool and cluster this process started (the next use starts them again).
+
+    Returns
+    -------
+    None
+        Dask clients are closed before their clusters and process pools are shut down after
+        their running tasks finish (queued tasks are cancelled); an error while closing one
+        of them is ignored. It is also registered with ``atexit``.
+    """
     with _LOCK:
         _POOLS.clear()
         closers = _CLOSERS[:]
@@ -296,20 +408,25 @@ class Parameter:
 
     Parameters
     ----------
-    name
+    name : str
         The keyword (``--set name=value`` on the command line).
-    kind
+    kind : {"int", "float", "floats"}
         ``int``, ``float`` or ``floats`` (a comma-separated list on the command line).
-    doc
+    doc : str
         One line: what it is, with its unit.
-    default
+    default : object
         The value used without an override: one value, or a dict ``{profile: value}``.
-    minimum, maximum
+    minimum, maximum : float or None, default None
         Inclusive bounds of the value (of every element for ``floats``); ``None``: unbounded.
-    model
+    model : bool, default False
         ``True`` if it changes the paper's setting (``N``, ``l``, noise levels): the claims the
         entry marks paper-specific are then skipped by ``verify``. ``False`` (trials,
         particles, paths) if it changes only the Monte Carlo accuracy: every claim applies.
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is not one of the three kinds.
     """
 
     name: str
@@ -325,6 +442,24 @@ class Parameter:
             raise ValueError(f"parameter {self.name}: kind must be int, float or floats")
 
     def default_for(self, profile: str) -> Any:
+        """The value used without an override in a run of ``profile``.
+
+        Parameters
+        ----------
+        profile : str
+            ``"fast"`` or ``"paper"``.
+
+        Returns
+        -------
+        object
+            ``default[profile]`` when ``default`` is a dict, else ``default`` itself
+            (it is not parsed).
+
+        Raises
+        ------
+        ValueError
+            If ``default`` is a dict and ``profile`` is not a known profile.
+        """
         d = self.default
         return d[check_profile(profile)] if isinstance(d, dict) else d
 
@@ -359,7 +494,29 @@ class Parameter:
 
     def parse(self, value) -> Any:
         """``value`` (a Python value or the text of ``--set``) checked and converted; a
-        ``ValueError`` naming the parameter otherwise."""
+        ``ValueError`` naming the parameter otherwise.
+
+        Parameters
+        ----------
+        value : int, float, str, or list or tuple of them
+            For ``int`` and ``float``: a number or its text (blanks around it are ignored);
+            for ``int`` a float with an integer value is accepted; booleans are refused. For
+            ``floats``: a non-empty list or tuple of such values, or their comma-separated
+            text (empty items are skipped).
+
+        Returns
+        -------
+        int, float or tuple of float
+            ``int`` for kind ``int``, a finite ``float`` for ``float``, a tuple of finite
+            floats for ``floats``.
+
+        Raises
+        ------
+        ValueError
+            If the value (or an element) is not a number of the kind, not finite (``float``,
+            ``floats``), outside ``[minimum, maximum]``, or, for ``floats``, if there is no
+            element or ``value`` is not a list, tuple or string.
+        """
         if self.kind != "floats":
             return self._scalar(value, self.kind)
         if isinstance(value, str):
@@ -370,6 +527,14 @@ class Parameter:
         return tuple(self._scalar(v, "float") for v in value)
 
     def describe(self) -> str:
+        """One line for ``python -m fusioncenter params ID``.
+
+        Returns
+        -------
+        str
+            ``name (kind, lo <= name <= hi; default D): doc``, the bounds shown only where they
+            are set.
+        """
         bounds = ""
         if self.minimum is not None or self.maximum is not None:
             lo = "" if self.minimum is None else f"{self.minimum:g} <= "
@@ -380,7 +545,28 @@ class Parameter:
 
 def check_overrides(entry_id: str, declared, overrides: dict) -> dict:
     """``overrides`` checked against the ``declared`` :class:`Parameter` objects of an entry:
-    the parsed values, or a ``ValueError`` listing the valid keys."""
+    the parsed values, or a ``ValueError`` listing the valid keys.
+
+    Parameters
+    ----------
+    entry_id : str
+        The registry id, named in the error message.
+    declared : iterable of Parameter
+        The entry's settable parameters.
+    overrides : dict
+        Parameter name to value (a Python value or the text of ``--set``).
+
+    Returns
+    -------
+    dict
+        The same keys, each value converted by :meth:`Parameter.parse`.
+
+    Raises
+    ------
+    ValueError
+        If a key is not a declared parameter (the message lists the valid keys), or a value
+        is invalid (the message names the parameter).
+    """
     by_name = {p.name: p for p in declared}
     unknown = sorted(set(overrides) - set(by_name))
     if unknown:

@@ -31,6 +31,7 @@ import numpy as np
 
 __all__ = ["MonteCarloResult", "simulate", "DEFAULT_BLOCK_SIZE"]
 
+#: Trials per independent random stream of :func:`simulate` (part of what fixes the draws).
 DEFAULT_BLOCK_SIZE = 256
 
 
@@ -41,6 +42,15 @@ class MonteCarloResult:
     ``mean`` and ``stderr`` (standard error of the mean, ``std(ddof=1) / sqrt(n)``) have the shape
     of one trial's result. ``samples`` keeps every trial, shaped ``(n_trials, ...)``, for
     quantiles and histograms.
+
+    Parameters
+    ----------
+    samples : numpy.ndarray, shape (n_trials, ...)
+        One row per trial, in trial order.
+    seed : int
+        The seed the trials were drawn with.
+    block_size : int
+        The trials per random stream they were drawn with (see :func:`simulate`).
     """
 
     samples: np.ndarray = field(repr=False)
@@ -49,24 +59,40 @@ class MonteCarloResult:
 
     @property
     def n_trials(self) -> int:
+        """The number of trials (``samples.shape[0]``), an ``int``."""
         return int(self.samples.shape[0])
 
     @property
     def mean(self) -> np.ndarray:
+        """The mean over the trials, shaped like one trial's result (``samples.shape[1:]``)."""
         return self.samples.mean(axis=0)
 
     @property
     def std(self) -> np.ndarray:
+        """The sample standard deviation over the trials (``ddof=1``), shaped like one trial's
+        result; all NaN with fewer than 2 trials."""
         if self.n_trials < 2:
             return np.full(self.samples.shape[1:], np.nan)
         return self.samples.std(axis=0, ddof=1)
 
     @property
     def stderr(self) -> np.ndarray:
+        """The standard error of the mean, ``std / sqrt(n_trials)`` (NaN with 1 trial)."""
         return self.std / math.sqrt(self.n_trials)
 
     def ci(self, z: float = 1.96) -> tuple[np.ndarray, np.ndarray]:
-        """Normal-approximation confidence band ``mean -/+ z * stderr``."""
+        """Normal-approximation confidence band ``mean -/+ z * stderr``.
+
+        Parameters
+        ----------
+        z : float, default 1.96
+            The half-width in standard errors (1.96: a 95 % band).
+
+        Returns
+        -------
+        lower, upper : numpy.ndarray
+            ``mean - z * stderr`` and ``mean + z * stderr``, each shaped like :attr:`mean`.
+        """
         return self.mean - z * self.stderr, self.mean + z * self.stderr
 
 
@@ -106,24 +132,40 @@ def simulate(
 
     Parameters
     ----------
-    chunk_fn
-        ``chunk_fn(rng, n) -> array (n, ...)``: simulate ``n`` trials with generator ``rng``.
-    n_trials
+    chunk_fn : callable
+        ``chunk_fn(rng, n) -> array (n, ...)``: simulate ``n`` trials with generator ``rng``
+        (a ``numpy.random.Generator``). Picklable when ``executor`` is given.
+    n_trials : int
         Number of trials (>= 1).
-    seed
+    seed : int
         Non-negative integer; with ``n_trials`` and ``block_size`` it fixes every random draw.
-    chunk_size
-        Trials per task sent to the executor, rounded up to whole blocks. Default: all trials
-        in one task when serial, otherwise about four tasks per worker-sized share. It never
-        changes the results.
-    executor
+    chunk_size : int, optional
+        Trials per task sent to the executor (>= 1), rounded up to whole blocks. Default: all
+        trials in one task when serial, otherwise at most eight tasks of
+        ``ceil(n_blocks / 8)`` blocks each. It never changes the results.
+    executor : concurrent.futures.Executor, optional
         Any ``concurrent.futures.Executor``-like object with ``submit`` (``None``: serial, in this
-        process).
-    progress
-        Show a tqdm progress bar over blocks on stderr.
-    block_size
-        Trials per independent random stream. Changing it changes the random draws (like a
-        different seed); it is part of what makes a result reproducible.
+        process). It is used, not shut down.
+    progress : bool, default False
+        Show a tqdm progress bar of the trials on stderr (advanced as each task finishes).
+    block_size : int, default 256
+        Trials per independent random stream (>= 1; :data:`DEFAULT_BLOCK_SIZE`). Changing it
+        changes the random draws (like a different seed); it is part of what makes a result
+        reproducible.
+
+    Returns
+    -------
+    MonteCarloResult
+        ``samples`` shaped ``(n_trials, ...)`` in trial order, with ``seed`` and
+        ``block_size``.
+
+    Raises
+    ------
+    ValueError
+        If ``chunk_fn`` is not callable; if ``n_trials``, ``seed``, ``block_size`` or
+        ``chunk_size`` is not an integer (a ``bool`` is refused; NumPy integers are accepted)
+        or is below its minimum; if ``executor`` has no ``submit``; or if ``chunk_fn`` returns
+        something whose first axis is not ``n`` long (raised when that block runs).
     """
     if not callable(chunk_fn):
         raise ValueError("chunk_fn must be callable as chunk_fn(rng, n)")

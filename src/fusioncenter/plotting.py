@@ -122,6 +122,8 @@ SAVE_DPI = 200
 
 _PANEL = (6.4, 3.3)  # one stacked panel: full text width, inches
 
+#: The book's matplotlib ``rcParams`` (applied by :func:`style`, :func:`use_style` and
+#: :func:`subplots`).
 RC = {
     "axes.prop_cycle": cycler(color=OKABE_ITO) + cycler(linestyle=_LINESTYLES),
     "lines.markersize": 5,
@@ -148,13 +150,26 @@ RC = {
 
 @contextmanager
 def style():
-    """Context manager applying the book's style."""
+    """Context manager applying the book's style.
+
+    Yields
+    ------
+    None
+        Inside the ``with`` block matplotlib's ``rcParams`` are updated with :data:`RC`; they
+        are restored when the block exits (``matplotlib.rc_context``).
+    """
     with matplotlib.rc_context(RC):
         yield
 
 
 def use_style() -> None:
-    """Make the book's style the default for every later figure (what the chapters do)."""
+    """Make the book's style the default for every later figure (what the chapters do).
+
+    Returns
+    -------
+    None
+        ``matplotlib.rcParams`` is updated with :data:`RC`, for the rest of the process.
+    """
     matplotlib.rcParams.update(RC)
 
 
@@ -175,7 +190,18 @@ def look(scheme: str | None = None, quantity: str | None = None, **overrides) ->
     Returns
     -------
     dict
-        ``color``, ``marker``, ``linestyle`` and any further keywords.
+        ``color``, ``marker``, ``linestyle`` and any further keywords: ``marker`` is always
+        there (``"None"`` unless the scheme, the quantity or an override sets one); ``color``
+        and ``linestyle`` when the scheme, the quantity or an override sets them. With both,
+        the scheme gives the colour and the marker (``"x"`` for ``quantity="paper"``) and the
+        quantity the line style. The short names ``ls``, ``lw``, ``c`` and ``ms`` of the
+        overrides are written out in full.
+
+    Raises
+    ------
+    ValueError
+        If ``scheme`` or ``quantity`` is not a key of its table, or an override changes the
+        colour or the marker fixed by ``scheme``.
     """
     if scheme is not None and scheme not in SCHEMES:
         raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
@@ -205,7 +231,25 @@ def look(scheme: str | None = None, quantity: str | None = None, **overrides) ->
 
 
 def classify(label: str) -> tuple[str | None, str | None]:
-    """The ``(scheme, quantity)`` a legend label names (``None`` where it names none)."""
+    """The ``(scheme, quantity)`` a legend label names (``None`` where it names none).
+
+    Parameters
+    ----------
+    label : str
+        A legend label, e.g. ``"CFwMD (paper)"``.
+
+    Returns
+    -------
+    scheme : str or None
+        The key of :data:`SCHEMES` the label names ("CFwMD", "random selection", "full
+        CSI", ...). The patterns are case-sensitive and tried in a fixed order, the first one
+        the label contains wins ("CFwMD2" and "as printed" before "CFwMD").
+    quantity : str or None
+        The key of :data:`QUANTITIES` the label names; only the paper's values (a label
+        containing ``(paper`` or a table such as ``(Table IV)``), the exact upper and lower
+        bounds, and labels starting with ``upper bound``, ``lower bound``, ``tight`` or
+        ``loose`` are recognised.
+    """
     scheme = next((k for k, p in _SCHEME_PATTERNS if re.search(p, label)), None)
     quantity = next((k for k, p in _QUANTITY_PATTERNS if re.search(p, label)), None)
     return scheme, quantity
@@ -219,6 +263,34 @@ def subplots(nrows: int = 1, ncols: int = 1, *, stack: bool = False, figsize=Non
     with the grid's shape, so ``axes[i, j]`` or ``ax1, ax2 = axes`` work as with
     ``plt.subplots``: on a page column about 700 px wide each panel keeps its full width instead
     of shrinking to a half or a third of it.
+
+    Parameters
+    ----------
+    nrows, ncols : int, default 1
+        The grid of panels.
+    stack : bool, default False
+        Lay the ``nrows * ncols`` panels out in one column (keyword-only).
+    figsize : tuple of float, optional
+        Width and height in inches. Default: with ``stack``, 6.4 wide and 3.3 per panel plus
+        0.6; otherwise :data:`RC`'s 6.4 x 4.0 scaled by ``0.75 * ncols + 0.25`` and
+        ``0.8 * nrows + 0.2``.
+    **kwargs
+        Passed to ``matplotlib.pyplot.subplots`` (``layout`` defaults to
+        ``"constrained"``). With ``stack``, ``squeeze`` (default ``True``) applies to the
+        ``(nrows, ncols)`` grid and ``sharex``/``sharey`` to the column of panels.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The new figure.
+    axes : matplotlib.axes.Axes or numpy.ndarray of them
+        As from ``plt.subplots``: one ``Axes`` for a single panel, else an array of shape
+        ``(nrows, ncols)`` with the axes of length 1 squeezed out (unless
+        ``squeeze=False``).
+
+    Notes
+    -----
+    It calls :func:`use_style` first, so the book's style stays the default afterwards.
     """
     use_style()
     kwargs.setdefault("layout", "constrained")
@@ -242,7 +314,30 @@ def subplots(nrows: int = 1, ncols: int = 1, *, stack: bool = False, figsize=Non
 
 
 def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None, **kwargs):
-    """A curve with a shaded ``mean -/+ z * stderr`` band (Monte Carlo error)."""
+    """A curve with a shaded ``mean -/+ z * stderr`` band (Monte Carlo error).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to draw on.
+    x : array_like, shape (n,)
+        The abscissae.
+    mean : numpy.ndarray, shape (n,)
+        The curve (for example :attr:`fusioncenter.montecarlo.MonteCarloResult.mean`).
+    stderr : numpy.ndarray or float
+        Its standard error, broadcast against ``mean``.
+    z : float, default 1.96
+        The band's half-width in standard errors (1.96: a 95 % band).
+    label : str, optional
+        The curve's legend label (the band has none).
+    **kwargs
+        Passed to ``ax.plot`` (e.g. ``**look(scheme)``).
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+        The curve; the band is filled in its colour with opacity 0.2.
+    """
     (line,) = ax.plot(x, mean, label=label, **kwargs)
     ax.fill_between(x, mean - z * stderr, mean + z * stderr, color=line.get_color(),
                     alpha=0.2, linewidth=0)
@@ -253,9 +348,35 @@ def errorbar_log(ax, x, y, err, *, label: str | None = None, xname: str = "x", *
     """``ax.errorbar`` on a log y axis, with ``y -/+ err`` bars whose lower end would reach
     zero or below (and so leave the axis) clipped at the axis bottom and marked.
 
-    The axis bottom is put at a decade below the smallest ``y`` of every call on ``ax``; a
-    clipped bar ends in a triangle at the axis, which has its own legend entry saying where
-    (``xname = value``) the bar was clipped. Returns the container.
+    The axis bottom is put below the smallest positive ``y`` of every call on ``ax``: at the
+    largest power of ten not above ``10**-0.3`` (about half) times it. A bar whose lower end
+    reaches the bottom or below is clipped there and ends in a triangle at the axis, which has
+    its own legend entry saying where (``xname = value``) the bar was clipped. The axis top is
+    1.3 times the largest ``y + err`` of every call. Returns the container.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to draw on; its y axis is set to log scale and its limits as above.
+    x, y, err : array_like, shape (n,)
+        The abscissae, the values (at least one positive) and the half-lengths of the bars
+        (a 95 % interval: the clipped bars' legend entry says so).
+    label : str, optional
+        The legend label of the points.
+    xname : str, default "x"
+        The name of ``x`` in the legend entry of the clipped bars.
+    **kwargs
+        Passed to ``ax.errorbar``.
+
+    Returns
+    -------
+    matplotlib.container.ErrorbarContainer
+        What ``ax.errorbar`` returns.
+
+    Raises
+    ------
+    ValueError
+        If no ``y`` is positive.
     """
     x, y, err = (np.asarray(v, dtype=float) for v in (x, y, err))
     bottom = 10.0 ** np.floor(np.log10(np.min(y[y > 0])) - 0.3)
@@ -300,7 +421,27 @@ def _legend_outside(ax) -> None:
 def finish(fig, *, title: str | None = None):
     """Check that every visible axis has x and y labels, put legends outside the data area,
     raise small text to :data:`MIN_FONT_PT`, add an optional title,
-    return ``fig``."""
+    return ``fig``.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, modified in place.
+    title : str, optional
+        A title over all panels (``fig.suptitle``, wrapped at 84 characters).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig`` itself. Each legend is drawn again above its panel, in one column if a label
+        is longer than 38 characters, with the panel's title (then removed from the panel) as
+        its heading.
+
+    Raises
+    ------
+    ValueError
+        If a visible axis with data lacks an x or a y label.
+    """
     for ax in fig.get_axes():
         if not ax.get_visible() or not ax.has_data():
             continue
@@ -327,9 +468,17 @@ def _texts(fig):
 def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
     """PNG bytes of ``fig`` (tight bounding box, ``dpi``) and the facts a page check needs.
 
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (normally finished by :func:`finish`); it is drawn.
+    dpi : int, default 200
+        Resolution of the PNG (:data:`SAVE_DPI`).
+
     Returns
     -------
     png : bytes
+        The PNG file (0.1 in padding around the tight bounding box).
     facts : dict
         ``width_px``, ``height_px`` (of the PNG), ``dpi``, ``panels`` (axes with data),
         ``columns`` (panels side by side, at most), ``panel_fraction`` (narrowest data area of
@@ -371,7 +520,20 @@ def _plain(s: str) -> str:
 
 
 def describe(fig) -> str:
-    """Alt text: for every panel, what it plots against what, and its curves (legend labels)."""
+    """Alt text: for every panel, what it plots against what, and its curves (legend labels).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; only visible axes with data are described.
+
+    Returns
+    -------
+    str
+        A sentence naming the number of panels (and the figure's title), then per panel its
+        title, "y label against x label" (with "(log scale)" for a log y axis) and its legend
+        labels, mathtext turned into plain text.
+    """
     axes = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
     parts = []
     sup = fig._suptitle.get_text() if fig._suptitle is not None else ""
