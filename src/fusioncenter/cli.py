@@ -1,5 +1,7 @@
 """Command line: regenerate any figure or table without the book.
 
+Usage::
+
     python -m fusioncenter list [--json]
     python -m fusioncenter params ID
     python -m fusioncenter compute ID [common options] (--json | --csv FILE)
@@ -100,7 +102,7 @@ def jsonable(value):
 
 
 def dumps(value) -> str:
-    """Strict JSON of :func:`jsonable` ``(value)`` (``allow_nan=False``).
+    """Strict JSON of :func:`jsonable` applied to ``value`` (``allow_nan=False``).
 
     Parameters
     ----------
