@@ -79,10 +79,8 @@ class LinearGaussianModel:
     P0: np.ndarray
 
     def __post_init__(self) -> None:
-        A = _matrix("A", self.A)
+        A = _v.square("A", _matrix("A", self.A))
         n = A.shape[0]
-        if A.shape != (n, n):
-            raise ValueError(f"A must be square, got {A.shape}")
         C = _matrix("C", self.C)
         if C.shape[1] != n:
             raise ValueError(f"C must have {n} columns (the state dimension), got {C.shape}")
@@ -301,6 +299,7 @@ def constant_velocity(dt: float = 1.0, q: float = 1.0, r: float = 1.0,
     Returns
     -------
     LinearGaussianModel
+        Two states (position, velocity), one sensor.
 
     Raises
     ------

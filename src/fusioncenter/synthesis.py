@@ -478,7 +478,7 @@ def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: i
 
 # ----------------------------------------------------------------------------- summaries
 @dataclass(frozen=True)
-class Summary:
+class Summary(montecarlo.PerTrial):
     """Per-trial results ``samples (n_trials, T, 5)`` (columns :data:`COLUMNS`) of one scheme.
 
     ``seed`` and ``block_size`` identify the trials: two summaries with equal ``seed``,
@@ -489,10 +489,6 @@ class Summary:
     samples: np.ndarray = field(repr=False)
     seed: int
     block_size: int
-
-    @property
-    def n_trials(self) -> int:
-        return int(self.samples.shape[0])
 
     def _sq(self, component: str) -> np.ndarray:
         cols = {"position": [0], "velocity": [1], "state": [0, 1]}.get(component)
@@ -543,8 +539,7 @@ class Summary:
         minus ``other``'s, with the paired standard error (trials differenced one by one)."""
         if not isinstance(other, Summary):
             raise ValueError("other must be a Summary")
-        if (self.seed, self.block_size, self.n_trials) != \
-                (other.seed, other.block_size, other.n_trials):
+        if not self.same_trials(other):
             raise ValueError("the two summaries are not paired (seed, block_size and n_trials "
                              "must agree)")
         if rate:
