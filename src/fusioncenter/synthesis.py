@@ -248,6 +248,8 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
     sensor it believes silent as the measurement ``nu_i = 0`` with noise ``r_i + delta_i``:
     receiver ``"csi"`` believes silent the sensors whose channel was good, ``"naive"`` every
     sensor whose packet is missing. All other missing sensors are dropped (a zero row of ``C``).
+    Each step is one :func:`fusioncenter.kalman.kalman_step` with that ``C_k`` and
+    ``R_k = diag(noise)`` (the library's letters: ``A`` is the scenario's ``F``, ``C`` its ``H``).
     """
     sc = _scenario(scenario)
     receiver = _receiver(receiver)
