@@ -7,7 +7,7 @@ import pytest
 from filterpy.kalman import KalmanFilter
 
 from fusioncenter import riccati
-from fusioncenter.kalman import LinearGaussianModel, constant_velocity
+from fusioncenter.kalman import LinearGaussianModel, constant_velocity, kalman_step
 
 
 def test_vectorized_filter_equals_filterpy_trial_by_trial():
@@ -70,3 +70,39 @@ def test_constant_velocity_validation():
         constant_velocity(r=-1.0)
     with pytest.raises(ValueError, match="q must be finite"):
         constant_velocity(q=np.nan)
+
+
+def test_kalman_step_shared_and_per_trial_forms_agree():
+    """The two arithmetic forms of the one step (gain shared by the trials, or a solve per
+    trial) are the same update up to rounding."""
+    model = constant_velocity(q=0.3, r=2.0)
+    rng = np.random.default_rng(3)
+    x = rng.standard_normal((6, 2))
+    innov = rng.standard_normal((6, 1))
+    shared = kalman_step(x, model.P0, innov, model.C, model.R, model.A, model.Q)
+    per = kalman_step(x, np.broadcast_to(model.P0, (6, 2, 2)), innov,
+                      np.broadcast_to(model.C, (6, 1, 2)), np.broadcast_to(model.R, (6, 1, 1)),
+                      model.A, model.Q)
+    for a, b in zip(shared, per, strict=True):
+        assert np.allclose(np.broadcast_to(a, b.shape), b, rtol=1e-12, atol=1e-14)
+    assert np.allclose(shared.x_pred, shared.x_post @ model.A.T)
+
+
+def test_kalman_step_zero_row_drops_the_sensor():
+    """A zero row of C_k (and a zero innovation) is the update without that sensor."""
+    A, Q = np.array([[1.0, 1.0], [0.0, 1.0]]), 0.1 * np.eye(2)
+    C, R = np.array([[1.0, 0.0], [0.5, 1.0]]), np.diag([1.0, 2.0])
+    P = np.broadcast_to(np.array([[2.0, 0.3], [0.3, 1.0]]), (2, 2, 2))
+    x = np.array([[0.0, 1.0], [1.0, -1.0]])
+    innov = np.array([[0.7, 0.0], [0.7, -0.2]])
+    Ck = np.stack([C * [[1.0], [0.0]], C])  # trial 0 drops sensor 2
+    out = kalman_step(x, P, innov, Ck, np.broadcast_to(R, (2, 2, 2)), A, Q)
+    alone = kalman_step(x[:1], P[0], innov[:1, :1], C[:1], R[:1, :1], A, Q)
+    assert np.allclose(out.x_post[0], alone.x_post[0])
+    assert np.allclose(out.P_post[0], alone.P_post)
+    assert np.allclose(out.P_pred[0], alone.P_pred)
+
+
+def test_zheng2014_letters_are_aliases():
+    model = constant_velocity()
+    assert model.F is model.A and model.H is model.C

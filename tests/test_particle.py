@@ -139,7 +139,7 @@ def test_psd_factor_rank_one_q():
 
 def test_dynamics_moments():
     rng = np.random.default_rng(4)
-    dyn = particle.LinearGaussianDynamics(F=[[1.0, 1.0], [0.0, 1.0]],
+    dyn = particle.LinearGaussianDynamics(A=[[1.0, 1.0], [0.0, 1.0]],
                                           Q=4.0 * np.array([[0.25, 0.5], [0.5, 1.0]]),
                                           m0=[1.0, 2.0], P0=np.diag([2.0, 0.5]))
     x0 = dyn.initial(rng, 4, 50000)
@@ -152,6 +152,18 @@ def test_dynamics_moments():
     np.testing.assert_allclose(np.cov(flat.T), cov, rtol=0.02)
     with pytest.raises(ValueError, match="Q"):
         particle.LinearGaussianDynamics(F=np.eye(2), Q=-np.eye(2), m0=[0, 0], P0=np.eye(2))
+
+
+def test_dynamics_letters():
+    """The library's ``A``; zheng2014's ``F`` is accepted as the keyword and read as an alias."""
+    kw = dict(Q=np.eye(2), m0=[0.0, 0.0], P0=np.eye(2))
+    by_a = particle.LinearGaussianDynamics(A=[[1.0, 1.0], [0.0, 1.0]], **kw)
+    by_f = particle.LinearGaussianDynamics(F=[[1.0, 1.0], [0.0, 1.0]], **kw)
+    assert np.array_equal(by_a.A, by_f.A) and by_f.F is by_f.A
+    with pytest.raises(ValueError, match="once"):
+        particle.LinearGaussianDynamics(A=np.eye(2), F=np.eye(2), **kw)
+    with pytest.raises(ValueError, match="F must be square"):
+        particle.LinearGaussianDynamics(F=np.ones((2, 3)), **kw)
 
 
 # ----------------------------------------------------------------------------- the loop

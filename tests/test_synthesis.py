@@ -23,6 +23,7 @@ def test_scenario_model_is_the_tracking_model():
     a, b = synthesis.scenario_model(SC), models.tracking_model()
     for name in ("A", "Q", "C", "R", "m0", "P0"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert censoring.scenarios.wna_model is models.wna_model  # the tracking model, defined once
 
 
 def test_kf_filter_equals_event_kf_run_on_the_same_draws():

@@ -16,6 +16,7 @@ the input unchanged, not symmetrized), so accepting an input does not change any
 * ``one_of(name, value, options)``: ``value`` must be one of ``options``.
 * ``covariance(name, value, *, definite=False, n=None, batch=False) -> ndarray``: a finite,
   square, symmetric, positive semi-definite (or definite) matrix, or a stack of them.
+* ``square(name, arr) -> ndarray``: a 2-D array must be square (a state transition ``A``).
 * ``finite_result(name, value, why) -> ndarray``: a computed result must be finite (raises
   ``ValueError`` saying why it is not: an overflow the inputs caused).
 
@@ -27,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
-           "finite_result", "SYMMETRY_RTOL", "PSD_RTOL"]
+           "square", "finite_result", "SYMMETRY_RTOL", "PSD_RTOL"]
 
 #: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
 #: * max |M|`` entrywise.
@@ -253,6 +254,31 @@ def covariance(name: str, value, *, definite: bool = False, n: int | None = None
     if np.any(low < -tol):
         raise ValueError(f"{name} must be positive semi-definite (a covariance), got smallest "
                          f"eigenvalue {float(np.min(low)):.3g}")
+    return arr
+
+
+def square(name: str, arr: np.ndarray) -> np.ndarray:
+    """A matrix must be square.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    arr : numpy.ndarray
+        A 2-D array (the caller has converted and checked it).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``arr``, unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``arr`` is not square.
+    """
+    if arr.shape != (arr.shape[0],) * 2:
+        raise ValueError(f"{name} must be square, got {arr.shape}")
     return arr
 
 

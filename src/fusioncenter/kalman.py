@@ -1,21 +1,35 @@
-"""A linear-Gaussian state-space model and its Kalman filter, vectorized across Monte Carlo trials.
+"""A linear-Gaussian state-space model, and the one Kalman step, vectorized across trials.
 
-Conventions (shared with :mod:`fusioncenter.riccati`): ``x_0 ~ N(m0, P0)``,
-``x_{k+1} = A x_k + w_k``, ``y_k = C x_k + v_k`` for ``k = 0..steps``; the filter starts from the
-prior ``(m0, P0)`` as its prediction for ``k = 0``. Arrays of trajectories are shaped
-``(trials, steps + 1, dim)``.
+The library's linear-Gaussian vocabulary (shared with :mod:`fusioncenter.riccati`,
+:mod:`fusioncenter.particle`, :mod:`fusioncenter.models`, :mod:`fusioncenter.event` and
+:mod:`fusioncenter.synthesis`; the letters of mo2015, dey2009 and leong2011):
+``x_0 ~ N(m0, P0)``, ``x_{k+1} = A x_k + w_k``, ``w ~ N(0, Q)``, ``y_k = C x_k + v_k``,
+``v ~ N(0, R)``. zheng2014 writes ``F`` for ``A`` and ``H`` for ``C``: those names are kept as
+read-only aliases where a public class uses them (``LinearGaussianModel.F`` / ``.H``,
+``particle.LinearGaussianDynamics.F``, the censoring scenarios' ``F`` and ``H``).
+
+The filter starts from the prior ``(m0, P0)`` as its prediction for ``k = 0``; arrays of
+trajectories are shaped ``(trials, steps + 1, dim)``.
+
+Every Kalman-filter loop of the library (:meth:`LinearGaussianModel.filter`,
+:func:`fusioncenter.event.event_kf_run`, :func:`fusioncenter.synthesis.kf_filter`) advances
+with :func:`kalman_step`: a measurement update with the step's own ``C_k`` and ``R_k`` followed
+by a time update. Event-triggered measurements, lost packets and censoring are expressed
+through them: a sensor that is dropped is a zero row of ``C_k``, a silent sensor that is used
+(mo2015's trigger) is the innovation ``0`` with a larger variance in ``R_k``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from fusioncenter import _validate as _v
 from fusioncenter.riccati import measurement_update, singular, solve_psd
 
-__all__ = ["LinearGaussianModel", "constant_velocity"]
+__all__ = ["LinearGaussianModel", "KalmanStep", "kalman_step", "constant_velocity"]
 
 
 def _matrix(name: str, value, shape: tuple[int, int] | None = None) -> np.ndarray:
@@ -65,10 +79,8 @@ class LinearGaussianModel:
     P0: np.ndarray
 
     def __post_init__(self) -> None:
-        A = _matrix("A", self.A)
+        A = _v.square("A", _matrix("A", self.A))
         n = A.shape[0]
-        if A.shape != (n, n):
-            raise ValueError(f"A must be square, got {A.shape}")
         C = _matrix("C", self.C)
         if C.shape[1] != n:
             raise ValueError(f"C must have {n} columns (the state dimension), got {C.shape}")
@@ -90,6 +102,16 @@ class LinearGaussianModel:
     @property
     def ny(self) -> int:
         return self.C.shape[0]
+
+    @property
+    def F(self) -> np.ndarray:
+        """zheng2014's name for ``A`` (read-only alias)."""
+        return self.A
+
+    @property
+    def H(self) -> np.ndarray:
+        """zheng2014's name for ``C`` (read-only alias)."""
+        return self.C
 
     def sample(self, rng: np.random.Generator, n: int, steps: int):
         """Draw ``n`` independent trajectories: ``(x, y)`` shaped ``(n, steps+1, nx|ny)``.
@@ -161,16 +183,92 @@ class LinearGaussianModel:
         P = self.P0
         r_singular = singular(self.R)
         for k in range(T1):
-            S = self.C @ P @ self.C.T + self.R
-            K = solve_psd(S, self.C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
             innov = y[:, k] - m @ self.C.T
-            post_m = m + innov @ K.T
-            post_P = measurement_update(P, self.C, self.R, check=k == 0)  # later P: computed
-            xhat[:, k] = post_m
-            Ps[k] = post_P
-            m = post_m @ self.A.T
-            P = self.A @ post_P @ self.A.T + self.Q
+            xhat[:, k], Ps[k], m, P = kalman_step(m, P, innov, self.C, self.R, self.A, self.Q,
+                                                  r_singular=r_singular, check=k == 0)
         return xhat, Ps
+
+
+class KalmanStep(NamedTuple):
+    """Result of :func:`kalman_step`: the filtered moments at step ``k`` and the predicted ones
+    for step ``k + 1``."""
+
+    x_post: np.ndarray  #: ``E[x_k | y_0..y_k]``, shaped like the predicted means
+    P_post: np.ndarray  #: ``P_{k|k}``, shaped like the predicted covariance(s)
+    x_pred: np.ndarray  #: ``E[x_{k+1} | y_0..y_k] = A x_post``
+    P_pred: np.ndarray  #: ``P_{k+1|k} = A P_{k|k} A^T + Q``
+
+
+def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
+                check: bool = False) -> KalmanStep:
+    """One Kalman-filter step over many trials: measurement update, then time update.
+
+    ``S = C P C^T + R``, ``x_post = x + P C^T S^{-1} innov``, ``P_post = P - P C^T S^{-1} C P``
+    (:func:`fusioncenter.riccati.measurement_update`), ``x_pred = A x_post``,
+    ``P_pred = A P_post A^T + Q``. The caller forms the innovation ``innov = y - C x`` (it often
+    needs it first: an event trigger decides on it) and chooses ``C`` and ``R`` of the step: a
+    sensor that sent nothing and is dropped is a zero row of ``C`` (and a zero innovation); a
+    silent sensor that is used (mo2015) keeps its row with the innovation ``0`` and the noise
+    variance ``r_i + delta_i``; a lost packet is dropped the same way.
+
+    Two arithmetic forms, chosen by the shape of ``P``:
+
+    * *shared* (``P``, ``C``, ``R`` single matrices; the gains do not depend on the data): the
+      gain ``K = P C^T S^{-1}`` is computed once and applied to every trial's innovation,
+      ``x_post = x + innov K^T``; ``P_pred`` is not symmetrized;
+    * *per trial* (``P (n, nx, nx)``, ``C (n, m, nx)`` and ``R (n, m, m)`` broadcasting): each
+      trial solves ``S^{-1} innov``; ``P_pred`` is symmetrized.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Predicted means ``x_{k|k-1}`` ``(n, nx)``.
+    P : numpy.ndarray
+        Predicted covariance ``P_{k|k-1}``: ``(nx, nx)`` shared by the trials, or ``(n, nx, nx)``.
+    innov : numpy.ndarray
+        Innovations ``(n, m)`` (zero in the rows that carry no measurement).
+    C : numpy.ndarray
+        The step's measurement matrix ``C_k``: ``(m, nx)``, or ``(n, m, nx)`` per trial.
+    R : numpy.ndarray
+        The step's noise covariance ``R_k``: ``(m, m)``, or ``(n, m, m)`` per trial.
+    A : numpy.ndarray
+        State transition ``(nx, nx)``.
+    Q : numpy.ndarray
+        Process-noise covariance ``(nx, nx)``.
+    r_singular : bool, optional
+        Whether ``R`` is singular (noise-free sensors: the gain is the limit ``R -> 0``, see
+        :func:`fusioncenter.riccati.solve_psd`); computed with
+        :func:`fusioncenter.riccati.singular` when omitted.
+    check : bool
+        Check that ``P`` and ``R`` are covariances (a filter passes ``True`` at its first step
+        only: later covariances are its own).
+
+    Returns
+    -------
+    KalmanStep
+        ``(x_post, P_post, x_pred, P_pred)``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is not finite or has the wrong shape; with ``check=True`` also if ``P``
+        or ``R`` is not symmetric PSD.
+    """
+    if r_singular is None:
+        r_singular = singular(R)
+    if P.ndim == 2 and np.ndim(C) == 2 and np.ndim(R) == 2:
+        S = C @ P @ C.T + R
+        K = solve_psd(S, C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
+        x_post = x + innov @ K.T
+        P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
+        return KalmanStep(x_post, P_post, x_post @ A.T, A @ P_post @ A.T + Q)
+    PCt = P @ np.swapaxes(C, -1, -2)  # (n, nx, m)
+    S = C @ PCt + R
+    w = solve_psd(S, innov[..., None], singular=r_singular)  # S^{-1} innov
+    x_post = x + (PCt @ w)[..., 0]
+    P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
+    P_pred = A @ P_post @ A.T + Q
+    return KalmanStep(x_post, P_post, x_post @ A.T, 0.5 * (P_pred + np.swapaxes(P_pred, -1, -2)))
 
 
 def _psd_factor(M: np.ndarray) -> np.ndarray:
@@ -201,6 +299,7 @@ def constant_velocity(dt: float = 1.0, q: float = 1.0, r: float = 1.0,
     Returns
     -------
     LinearGaussianModel
+        Two states (position, velocity), one sensor.
 
     Raises
     ------

@@ -1,9 +1,14 @@
 """Benchmark models shared by several chapters.
 
-Each function returns a :class:`fusioncenter.kalman.LinearGaussianModel` (fields ``A, Q, C, R,
-m0, P0``; ``m0`` is the prior mean of ``x_0``, the papers' ``x_0``), so it can be sampled
-(``model.sample``), filtered with every sensor sending (``model.filter``) and run under an event
-trigger (:func:`fusioncenter.event.event_kf_run`).
+:func:`wna_model` is the one definition of the white-noise-acceleration tracking model (zheng2014
+Section VII.A): :func:`tracking_model` here and the censoring scenarios
+(:class:`fusioncenter.censoring.LinearScenario` and the vector and nonlinear ones) take their
+``A`` (zheng2014's ``F``) and ``Q`` from it.
+
+:func:`tracking_model` returns a :class:`fusioncenter.kalman.LinearGaussianModel` (fields
+``A, Q, C, R, m0, P0``; ``m0`` is the prior mean of ``x_0``, the papers' ``x_0``), so it can be
+sampled (``model.sample``), filtered with every sensor sending (``model.filter``) and run under
+an event trigger (:func:`fusioncenter.event.event_kf_run`).
 """
 
 from __future__ import annotations
@@ -13,7 +18,29 @@ import numpy as np
 from fusioncenter import _validate as _v
 from fusioncenter.kalman import LinearGaussianModel
 
-__all__ = ["tracking_model"]
+__all__ = ["wna_model", "tracking_model"]
+
+
+def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(A, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``.
+
+    ``A = [[1, dt], [0, 1]]`` (zheng2014's ``F``), ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2,
+    dt^2]]`` (an acceleration ``sigma2``-variance, constant over a step; rank one).
+
+    Parameters
+    ----------
+    dt : float
+        Sampling period (the callers check it is positive).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        ``(2, 2)`` state transition.
+    Q1 : numpy.ndarray
+        ``(2, 2)`` process-noise covariance per unit ``sigma2``.
+    """
+    return (np.array([[1.0, dt], [0.0, 1.0]]),
+            np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
 
 
 def tracking_model(n_sensors: int = 2, *, dt: float = 1.0, sigma2: float = 4.0, r: float = 1.0,
@@ -56,6 +83,8 @@ def tracking_model(n_sensors: int = 2, *, dt: float = 1.0, sigma2: float = 4.0, 
     Returns
     -------
     LinearGaussianModel
+        ``A`` and ``Q = sigma2 Q1`` from :func:`wna_model`, ``C`` ``(n_sensors, 2)``,
+        ``R = r I``, ``m0 = x0``, ``P0``.
 
     Raises
     ------
@@ -66,8 +95,8 @@ def tracking_model(n_sensors: int = 2, *, dt: float = 1.0, sigma2: float = 4.0, 
     dt = float(_v.positive("dt", dt, "a sampling period"))
     sigma2 = float(_v.nonneg("sigma2", sigma2, "a variance"))
     r = float(_v.nonneg("r", r, "a noise variance"))
-    A = np.array([[1.0, dt], [0.0, 1.0]])
-    Q = sigma2 * np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]])
+    A, Q1 = wna_model(dt)
+    Q = sigma2 * Q1
     C = np.tile([1.0, 0.0], (int(n_sensors), 1))
     R = r * np.eye(int(n_sensors))
     x0 = _v.finite("x0", x0)

@@ -29,14 +29,44 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["MonteCarloResult", "simulate", "DEFAULT_BLOCK_SIZE"]
+__all__ = ["PerTrial", "MonteCarloResult", "simulate", "DEFAULT_BLOCK_SIZE"]
 
 #: Trials per independent random stream of :func:`simulate` (part of what fixes the draws).
 DEFAULT_BLOCK_SIZE = 256
 
 
+class PerTrial:
+    """What results keeping per-trial ``samples`` (first axis: the trials) of :func:`simulate`
+    share; the ``seed`` and ``block_size`` that drew them identify the trials."""
+
+    samples: np.ndarray
+    seed: int
+    block_size: int
+
+    @property
+    def n_trials(self) -> int:
+        """Number of trials: the first axis of ``samples``."""
+        return int(self.samples.shape[0])
+
+    def same_trials(self, other: PerTrial) -> bool:
+        """Whether ``other`` was simulated on the same trials (equal ``seed``, ``block_size`` and
+        ``n_trials``), so that the two can be compared trial by trial (paired).
+
+        Parameters
+        ----------
+        other : PerTrial
+            Another result.
+
+        Returns
+        -------
+        bool
+        """
+        return (self.seed, self.block_size, self.n_trials) == \
+            (other.seed, other.block_size, other.n_trials)
+
+
 @dataclass(frozen=True)
-class MonteCarloResult:
+class MonteCarloResult(PerTrial):
     """Per-trial samples and their summary.
 
     ``mean`` and ``stderr`` (standard error of the mean, ``std(ddof=1) / sqrt(n)``) have the shape
@@ -56,11 +86,6 @@ class MonteCarloResult:
     samples: np.ndarray = field(repr=False)
     seed: int
     block_size: int
-
-    @property
-    def n_trials(self) -> int:
-        """The number of trials (``samples.shape[0]``), an ``int``."""
-        return int(self.samples.shape[0])
 
     @property
     def mean(self) -> np.ndarray:

@@ -13,6 +13,11 @@ trials. Shapes:
 Everything that touches one trial's particles uses only that trial's row, so splitting the trials
 into blocks (as :func:`fusioncenter.montecarlo.simulate` does) never changes a row's result.
 
+Letters: the library's linear-Gaussian vocabulary (:mod:`fusioncenter.kalman`), ``x_t = A x_{t-1}
++ u``, ``u ~ N(0, Q)``, measurements ``C x + v``; zheng2014's ``F`` (for ``A``) and ``H`` (for
+``C``) are aliases where a public class uses them (``LinearGaussianDynamics.F``, the censoring
+scenarios' ``F`` and ``H``).
+
 A model for :func:`run_filter` is any object with (see :class:`FilterModel`)
 
 * ``dim`` -- the state dimension ``d``;
@@ -35,7 +40,7 @@ Functions (signature, one line each):
 * ``systematic_resample(logw, u) -> int (..., P)``: ancestor indices (sorted within a row).
 * ``resample(x, idx)``: ``x[..., idx, :]`` row by row.
 * ``weighted_mean(x, logw)``, ``weighted_mean_cov(x, logw)``: posterior mean (and covariance).
-* ``LinearGaussianDynamics(F, Q, m0, P0)``: ``x_0 ~ N(m0, P0)``, ``x_t = F x_{t-1} + u``,
+* ``LinearGaussianDynamics(A, Q, m0, P0)``: ``x_0 ~ N(m0, P0)``, ``x_t = A x_{t-1} + u``,
   ``u ~ N(0, Q)``; its ``initial`` / ``transition`` draw only ``rank(P0)`` / ``rank(Q)`` normals
   per particle.
 * ``run_filter(model, rng, n_trials, n_particles, steps, *, ess_threshold=1.0) -> FilterOutput``.
@@ -52,6 +57,7 @@ import numpy as np
 from fusioncenter import _kernels
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import square as _square
 
 __all__ = [
     "log_normalize",
@@ -262,37 +268,57 @@ def _psd(name: str, value, d: int) -> np.ndarray:
     return arr
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class LinearGaussianDynamics:
-    """``x_0 ~ N(m0, P0)``, ``x_t = F x_{t-1} + u_{t-1}``, ``u ~ N(0, Q)`` (zheng2014 eq. (1)).
+    """``x_0 ~ N(m0, P0)``, ``x_t = A x_{t-1} + u_{t-1}``, ``u ~ N(0, Q)`` (zheng2014 eq. (1)).
 
     The initial law and the transition of a :class:`FilterModel`; a scenario combines it with its
-    observation model. ``Q`` and ``P0`` may be singular (only ``rank`` normals are drawn).
+    observation model. ``Q`` and ``P0`` may be singular (only ``rank`` normals are drawn). The
+    letters are the library's (:mod:`fusioncenter.kalman`); zheng2014's ``F`` is an alias: the
+    keyword ``F=`` is accepted for ``A`` and the attribute ``F`` returns ``A``.
+
+    Parameters
+    ----------
+    A, Q, m0, P0 : array_like
+        As the fields of :class:`fusioncenter.kalman.LinearGaussianModel` (``F=`` is accepted
+        for ``A``); ``Q`` and ``P0`` are stored symmetrized.
+
+    Raises
+    ------
+    ValueError
+        If ``A`` and ``F`` are both given or both missing, or a field is not finite, of the
+        wrong shape or (``Q``, ``P0``) not a covariance; the message names it.
     """
 
-    F: np.ndarray
+    A: np.ndarray
     Q: np.ndarray
     m0: np.ndarray
     P0: np.ndarray
 
-    def __post_init__(self) -> None:
-        F = _matrix("F", self.F)
-        d = F.shape[0]
-        if F.shape != (d, d):
-            raise ValueError(f"F must be square, got {F.shape}")
-        m0 = np.asarray(self.m0, dtype=float).reshape(-1)
-        if m0.shape != (d,) or not np.all(np.isfinite(m0)):
-            raise ValueError(f"m0 must be a finite vector of length {d}, got {self.m0!r}")
-        object.__setattr__(self, "F", F)
-        object.__setattr__(self, "Q", _psd("Q", self.Q, d))
-        object.__setattr__(self, "m0", m0)
-        object.__setattr__(self, "P0", _psd("P0", self.P0, d))
+    def __init__(self, A=None, Q=None, m0=None, P0=None, *, F=None) -> None:
+        if (A is None) == (F is None):
+            raise ValueError("give the state transition once, as A (or its alias F)")
+        name, A = ("A", A) if F is None else ("F", F)
+        A = _square(name, _matrix(name, A))
+        d = A.shape[0]
+        mean = np.asarray(m0, dtype=float).reshape(-1)
+        if mean.shape != (d,) or not np.all(np.isfinite(mean)):
+            raise ValueError(f"m0 must be a finite vector of length {d}, got {m0!r}")
+        object.__setattr__(self, "A", A)
+        object.__setattr__(self, "Q", _psd("Q", Q, d))
+        object.__setattr__(self, "m0", mean)
+        object.__setattr__(self, "P0", _psd("P0", P0, d))
         object.__setattr__(self, "_LQ", psd_factor(self.Q))
         object.__setattr__(self, "_L0", psd_factor(self.P0))
 
     @property
+    def F(self) -> np.ndarray:
+        """zheng2014's name for ``A`` (read-only alias)."""
+        return self.A
+
+    @property
     def dim(self) -> int:
-        return self.F.shape[0]
+        return self.A.shape[0]
 
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
         """``(n, P, d)`` draws from ``N(m0, P0)`` (no random numbers used when ``P0 = 0``)."""
@@ -302,10 +328,10 @@ class LinearGaussianDynamics:
         return x
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """``F x + u`` for every particle; ``x (..., d)``."""
+        """``A x + u`` for every particle; ``x (..., d)``."""
         # stacked matmul: one small BLAS call per trial (a single (n P) x d product would be
         # split over BLAS threads, which is slow for d = 2 on a busy machine)
-        out = x @ self.F.T
+        out = x @ self.A.T
         k = self._LQ.shape[1]
         if k:
             out += rng.standard_normal((*x.shape[:-1], k)) @ self._LQ.T

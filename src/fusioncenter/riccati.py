@@ -178,14 +178,10 @@ def scalar_steady_state(a, q, c, r):
 
     Parameters
     ----------
-    a : array_like
-        State transition(s), finite.
-    q : array_like
-        Process-noise variance(s), ``>= 0``.
-    c : array_like
-        Measurement gain(s), finite.
-    r : array_like
-        Measurement-noise variance(s), ``>= 0``.
+    a, q : array_like
+        As in :func:`scalar_step`.
+    c, r : array_like
+        As in :func:`scalar_update`.
 
     Returns
     -------

@@ -58,10 +58,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import censoring, montecarlo, particle, riccati
+from fusioncenter import censoring, montecarlo, particle
 from fusioncenter._validate import finite as _finite
 from fusioncenter.fading import Rayleigh
-from fusioncenter.kalman import LinearGaussianModel
+from fusioncenter.kalman import LinearGaussianModel, kalman_step
 
 __all__ = [
     "KF_SCHEMES",
@@ -248,6 +248,8 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
     sensor it believes silent as the measurement ``nu_i = 0`` with noise ``r_i + delta_i``:
     receiver ``"csi"`` believes silent the sensors whose channel was good, ``"naive"`` every
     sensor whose packet is missing. All other missing sensors are dropped (a zero row of ``C``).
+    Each step is one :func:`fusioncenter.kalman.kalman_step` with that ``C_k`` and
+    ``R_k = diag(noise)`` (the library's letters: ``A`` is the scenario's ``F``, ``C`` its ``H``).
     """
     sc = _scenario(scenario)
     receiver = _receiver(receiver)
@@ -263,17 +265,17 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         raise ValueError(f"xi and lost must have z's shape {z.shape}, got {xi.shape}, "
                          f"{lost.shape}")
     delta, p = _scheme_params(scheme, N, delta, p)
-    F, Q, H, r = sc.F, sc.Q, sc.H, sc.rvec
+    A, Q, C, r = sc.F, sc.Q, sc.H, sc.rvec  # zheng2014 F, H
     dyn = sc.dynamics
-    xpred = np.broadcast_to(F @ dyn.m0, (n, 2)).copy()
-    Ppred = np.broadcast_to(F @ dyn.P0 @ F.T + Q, (n, 2, 2)).copy()
+    xpred = np.broadcast_to(A @ dyn.m0, (n, 2)).copy()
+    Ppred = np.broadcast_to(A @ dyn.P0 @ A.T + Q, (n, 2, 2)).copy()
     xhat = np.empty((n, T, 2))
     Ps = np.empty((n, T, 2, 2))
     sent_all = np.empty((n, T, N), dtype=bool)
     arr_all = np.empty((n, T, N), dtype=bool)
     eye = np.eye(N)
     for t in range(T):
-        nu = z[:, t] - xpred @ H.T  # (n, N)
+        nu = z[:, t] - xpred @ C.T  # (n, N)
         if scheme == "stochastic":
             sent = xi[:, t] > np.exp(-(nu**2) / (2.0 * delta))
         elif scheme == "random":
@@ -288,20 +290,12 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
             silent = np.zeros((n, N), dtype=bool)
             noise = np.broadcast_to(r, (n, N))
         use = arrived | silent
-        Ck = H * use[:, :, None]  # (n, N, 2): a dropped sensor is a zero row
+        Ck = C * use[:, :, None]  # (n, N, 2): a dropped sensor is a zero row
         Rk = noise[:, :, None] * eye
-        PCt = Ppred @ np.swapaxes(Ck, -1, -2)
-        S = Ck @ PCt + Rk
-        sing = bool(np.any(noise == 0))  # R_k = diag(noise)
-        w = riccati.solve_psd(S, np.where(arrived, nu, 0.0)[:, :, None], singular=sing)
-        xpost = xpred + (PCt @ w)[:, :, 0]
-        Ppost = riccati.measurement_update(Ppred, Ck, Rk, check=False,  # computed Ppred
-                                           r_singular=sing)
-        xhat[:, t], Ps[:, t] = xpost, Ppost
+        xhat[:, t], Ps[:, t], xpred, Ppred = kalman_step(  # R_k = diag(noise)
+            xpred, Ppred, np.where(arrived, nu, 0.0), Ck, Rk, A, Q,
+            r_singular=bool(np.any(noise == 0)))
         sent_all[:, t], arr_all[:, t] = sent, arrived
-        xpred = xpost @ F.T
-        Ppred = F @ Ppost @ F.T + Q
-        Ppred = 0.5 * (Ppred + np.swapaxes(Ppred, -1, -2))
     return KFOutput(xhat=xhat, P=Ps, sent=sent_all, arrived=arr_all)
 
 
@@ -486,7 +480,7 @@ def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: i
 
 # ----------------------------------------------------------------------------- summaries
 @dataclass(frozen=True)
-class Summary:
+class Summary(montecarlo.PerTrial):
     """Per-trial results ``samples (n_trials, T, 5)`` (columns :data:`COLUMNS`) of one scheme.
 
     ``seed`` and ``block_size`` identify the trials: two summaries with equal ``seed``,
@@ -497,10 +491,6 @@ class Summary:
     samples: np.ndarray = field(repr=False)
     seed: int
     block_size: int
-
-    @property
-    def n_trials(self) -> int:
-        return int(self.samples.shape[0])
 
     def _sq(self, component: str) -> np.ndarray:
         cols = {"position": [0], "velocity": [1], "state": [0, 1]}.get(component)
@@ -551,8 +541,7 @@ class Summary:
         minus ``other``'s, with the paired standard error (trials differenced one by one)."""
         if not isinstance(other, Summary):
             raise ValueError("other must be a Summary")
-        if (self.seed, self.block_size, self.n_trials) != \
-                (other.seed, other.block_size, other.n_trials):
+        if not self.same_trials(other):
             raise ValueError("the two summaries are not paired (seed, block_size and n_trials "
                              "must agree)")
         if rate:

@@ -13,6 +13,7 @@ from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
+from fusioncenter.models import wna_model  # the tracking model, defined once (re-exported)
 
 #: Schemes of :func:`run`: every sensor sends; each sends independently with probability
 #: ``l / N`` (missing completely at random); NIS censoring with the silent sensors dropped
@@ -36,13 +37,6 @@ def _as_tuple(value):
 def nested_tuple(arr: np.ndarray):
     """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
     return tuple(nested_tuple(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
-
-
-def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
-    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
-    return (np.array([[1.0, dt], [0.0, 1.0]]),
-            np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
 
 
 def target_dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
