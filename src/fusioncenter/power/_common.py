@@ -21,16 +21,19 @@ __all__ = ["ACCESS", "check_access", "check_a", "check_sensors", "TARGET_NEEDS_N
            "INVALID", "INFEASIBLE"]
 
 
+#: The two schemes: every signal summed on one channel, or each on its own.
 ACCESS = ("multi-access", "orthogonal")
 
 
 def check_access(access) -> str:
+    """``access``, which must be one of :data:`ACCESS`."""
     if access not in ACCESS:
         raise ValueError(f"access must be one of {ACCESS}, got {access!r}")
     return access
 
 
 def check_a(a, *, stable: bool = True) -> np.ndarray:
+    """The state transition: finite, and ``|a| < 1`` unless ``stable=False``."""
     arr = _finite("a", a)
     if stable and np.any(np.abs(arr) >= 1):
         raise ValueError(
@@ -70,6 +73,7 @@ TARGET_NEEDS_NOISE = ("a variance; with sigma_w2 = 0 the steady state is 0 whate
 
 
 def check_D(D, a, sigma_w2) -> np.ndarray:
+    """An error target strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``."""
     D = _finite("D", D)
     upper = sigma_w2 / (1.0 - a**2)
     if np.any(D <= sigma_w2) or np.any(D >= upper):
@@ -82,6 +86,7 @@ def check_D(D, a, sigma_w2) -> np.ndarray:
 
 
 def check_general(rho, tau, kappa_, sigma_n2):
+    """``(rho, tau, kappa, sigma_n2)`` of a general problem, the per-sensor arrays broadcast."""
     s = check_sensors(rho=rho, tau=tau, kappa=kappa_)
     _positive("tau", s["tau"])
     _positive("kappa", s["kappa"], "a power per unit alpha^2")
