@@ -34,7 +34,7 @@ def test_exp_e1_against_mpmath_on_a_log_grid():
     rel = np.abs(got / ref - 1)
     assert rel.max() <= 1e-12, (xs[rel.argmax()], rel.max())
     # both branches are exercised: scipy below the switch, the continued fraction above
-    assert xs.min() < fading._E1_SWITCH < xs.max()
+    assert xs.min() < fading.channels._E1_SWITCH < xs.max()
 
 
 def test_exp_e1_edges_and_scalars():
@@ -317,7 +317,7 @@ def test_recursions_are_kalman_riccati_steps():
     P, Am, cb = np.array([[3.0, 0.5], [0.5, 1.0]]), np.array([[1.25, 1.0], [0, 0.9]]), [1.0, 0.3]
     r = 0.37
     S = np.array(cb) @ P @ np.array(cb) + 2.0
-    got = fading._vector_step(P, Am, np.array(cb), np.eye(2), 2.0, r / (r + SN2 / S))
+    got = fading.vector._vector_step(P, Am, np.array(cb), np.eye(2), 2.0, r / (r + SN2 / S))
     ref = riccati.riccati_step(P, Am, np.eye(2), np.sqrt(r) * np.array([cb]),
                                [[r * 2.0 + SN2]])
     np.testing.assert_allclose(got, ref, rtol=1e-12)
@@ -400,11 +400,11 @@ def test_multisensor_terms_against_quadrature():
             return 1 / (1 / m + g * r * c[i] ** 2 / (r * sv2[i] + sn2)) * dens
 
         ma = scipy.integrate.quad(ma_term, 0, np.inf, epsrel=1e-12)[0]
-        assert fading._ratio_expect(sv2[i], c[i] ** 2 * g + sv2[i], w, sn2 / m,
-                                    lams[i]) == pytest.approx(ma, rel=1e-9)
+        assert fading.multisensor._ratio_expect(sv2[i], c[i] ** 2 * g + sv2[i], w, sn2 / m,
+                                                lams[i]) == pytest.approx(ma, rel=1e-9)
         orth = scipy.integrate.quad(orth_term, 0, np.inf, epsrel=1e-12)[0]
-        assert fading._ratio_expect(m * sv2[i], m * c[i] ** 2 * g + sv2[i], m * sn2, sn2,
-                                    lams[i]) == pytest.approx(orth, rel=1e-9)
+        assert fading.multisensor._ratio_expect(m * sv2[i], m * c[i] ** 2 * g + sv2[i], m * sn2,
+                                                sn2, lams[i]) == pytest.approx(orth, rel=1e-9)
 
 
 def test_ordering_22_worst_sensor_is_chosen_and_violation_is_smaller():
@@ -585,10 +585,10 @@ def test_scalar_chunk_matches_the_direct_recursion_on_one_draw(channel, monkeypa
         want.append(p)
     want = np.array(want).T
     for batch_elements in (1, n * 5, 10**6):  # one step per batch, five, all
-        monkeypatch.setattr(fading, "_BATCH_ELEMENTS", batch_elements)
-        got = fading._scalar_chunk(np.random.default_rng(3), n, a=1.25, sigma_w2=1.0,
-                                   sigma_v2=2.0, sigma_n2=4.0, channel=channel, p0=0.7,
-                                   steps=steps)
+        monkeypatch.setattr(fading.scalar, "_BATCH_ELEMENTS", batch_elements)
+        got = fading.scalar._scalar_chunk(np.random.default_rng(3), n, a=1.25, sigma_w2=1.0,
+                                          sigma_v2=2.0, sigma_n2=4.0, channel=channel, p0=0.7,
+                                          steps=steps)
         np.testing.assert_allclose(got, want, rtol=1e-13)
 
 
@@ -597,6 +597,7 @@ def test_scalar_chunk_limits_p0_zero_and_deep_fade():
         def sample(self, rng, size):
             return np.zeros(size)
 
-    got = fading._scalar_chunk(np.random.default_rng(0), 2, a=2.0, sigma_w2=1.0, sigma_v2=1.0,
-                               sigma_n2=1.0, channel=Dead(1.0), p0=0.0, steps=3)
+    got = fading.scalar._scalar_chunk(np.random.default_rng(0), 2, a=2.0, sigma_w2=1.0,
+                                      sigma_v2=1.0, sigma_n2=1.0, channel=Dead(1.0), p0=0.0,
+                                      steps=3)
     np.testing.assert_array_equal(got, [[0.0, 1.0, 5.0, 21.0]] * 2)

@@ -514,7 +514,7 @@ def test_eq33_moments_and_the_reduction_to_rho_tau():
     vr, vi = rng.uniform(0.1, 1, M), rng.uniform(0.1, 1, M)
     al = rng.uniform(0.2, 1, M)
     at = power.beamformed(al, hm)
-    mre, mim, var_re, _, _ = power._channel_stats(at, hm, vr, vi)
+    mre, mim, var_re, _, _ = power.lmmse._channel_stats(at, hm, vr, vi)
     m_r, m_i, ab2 = hm.real, hm.imag, np.abs(hm) ** 2
     # (33) as printed (for alpha~ = alpha conj(E h)/|E h|)
     assert np.allclose(mre, al * np.abs(hm)) and np.allclose(mim, 0, atol=1e-15)
@@ -577,7 +577,7 @@ def test_lmmse_general_rbar_and_the_printed_off_diagonal():
     z = _lmmse_z("multi-access", at, a, sw, c, sv, sn, hm, vr, vi)
     assert abs(z) < 4
     C, R = power.lmmse_matrices("multi-access", at, a, sw, c, sv, sn, hm, vr, vi)
-    mre, mim, _, _, cov = power._channel_stats(at, hm, vr, vi)
+    mre, mim, _, _, cov = power.lmmse._channel_stats(at, hm, vr, vi)
     assert abs(np.sum(cov * (c**2 * sw / (1 - a**2) + sv))) > 0.5  # the omitted term
     R_printed = R.copy()
     R_printed[0, 1] = R_printed[1, 0] = np.sum(mre * mim * sv)
