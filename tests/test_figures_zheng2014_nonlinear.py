@@ -141,3 +141,43 @@ def test_table3_checks_fail_on_wrong_counts():
     d = data("zheng2014-table3")
     d["half_shortfall"] = -np.abs(d["half_shortfall"])
     assert any("more than half" in n for n in failed("zheng2014-table3", d))
+
+
+# ------------------------------------------------------------------ settable parameters
+def test_every_zheng2014_entry_has_settable_parameters(capsys):
+    from fusioncenter import cli
+
+    for e in figures.entries():
+        if e.paper == "zheng2014":
+            assert e.settable, e.id
+    assert cli.main(["params", "zheng2014-fig7"]) in (0, None)
+    out = capsys.readouterr().out
+    assert "trajectories (int" in out and "sigma2 (float" in out
+    assert "changes the paper's setting" in out
+
+
+def test_fig7_overrides_change_and_record_the_data():
+    e = figures.get("zheng2014-fig7")
+    base = cached_data("zheng2014-fig7")
+    small = e.run_compute("fast", trajectories=500)
+    assert small["ensemble"] == 500 and base["ensemble"] == zn.TRAJECTORIES
+    assert np.array_equal(small["trajectory"], base["trajectory"])  # the sample comes first
+    noisy = e.run_compute("fast", trajectories=500, sigma2="0.4")
+    assert not np.array_equal(noisy["trajectory"], small["trajectory"])
+    assert e.resolved_parameters("fast", {"sigma2": "0.4"}) == {
+        "trajectories": zn.TRAJECTORIES, "sigma2": 0.4}
+    assert e.model_overridden({"sigma2": 0.4, "trajectories": 9}) == ["sigma2"]
+    checked, skipped = e.split_claims(e.run_checks(noisy), {"sigma2": 0.4})
+    assert [c.name for c in checked] == [
+        "N = 9 sensors on a 3 x 3 grid inside the 20 m x 20 m region"]
+    assert len(skipped) == 3 and all(c.paper_specific for c in skipped)
+
+
+def test_fig7_bad_overrides_name_the_valid_keys():
+    e = figures.get("zheng2014-fig7")
+    with pytest.raises(ValueError, match="unknown parameter.*valid keys: sigma2, trajectories"):
+        e.run_compute("fast", trials=10)
+    with pytest.raises(ValueError, match="parameter trajectories: must be >= 2"):
+        e.run_compute("fast", trajectories=1)
+    with pytest.raises(ValueError, match="parameter sigma2: must be >= "):
+        e.run_compute("fast", sigma2=-1.0)

@@ -40,7 +40,7 @@ def test_placeholders_are_replaced_and_parameters_are_the_papers():
 
 
 def test_fig5_and_table2_share_one_computation():
-    size = zv._size("fast", zv.TRIALS_FIG5, zv.PARTICLES_FIG5, {})
+    size = zv.common.run_size("fast", zv.TRIALS_FIG5, zv.PARTICLES_FIG5, {})
     a, b = zv._fig5_runs(figures.get("zheng2014-fig5").seed, *size)
     assert zv._fig5_runs(figures.get("zheng2014-table2").seed, *size)[0] is a
     d = cached_data("zheng2014-table2")

@@ -7,6 +7,7 @@
 """
 
 from fusioncenter.figures.registry import (
+    PAPER_IDS,
     PAPERS,
     REGISTRY,
     STATUSES,
@@ -18,17 +19,6 @@ from fusioncenter.figures.registry import (
     get,
     ids,
     register,
-)
-
-#: The ids of the papers' own figures and tables (fixed by the foundation issue); each is
-#: registered by the module of its part.
-PAPER_IDS: tuple[str, ...] = (
-    *(f"dey2009-fig{i}" for i in range(1, 5)),
-    "leong2011-fig1",
-    "leong2011-fig2",
-    *(f"leong2011-fig{i}{p}" for i in range(3, 7) for p in "ab"),
-    *(f"zheng2014-fig{i}" for i in range(1, 11)),
-    *(f"zheng2014-table{i}" for i in range(1, 4)),
 )
 
 __all__ = [

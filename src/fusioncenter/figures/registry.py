@@ -31,6 +31,7 @@ from fusioncenter.profile import check_profile
 
 __all__ = [
     "PAPERS",
+    "PAPER_IDS",
     "STATUSES",
     "Claim",
     "Entry",
@@ -58,6 +59,17 @@ PAPERS: dict[str, tuple[str, str]] = {
 }
 
 STATUSES = ("not-started", "reproduced", "differs")
+
+#: The ids of the papers' own figures and tables (fixed by the foundation issue); each is
+#: registered by the module of its part.
+PAPER_IDS: tuple[str, ...] = (
+    *(f"dey2009-fig{i}" for i in range(1, 5)),
+    "leong2011-fig1",
+    "leong2011-fig2",
+    *(f"leong2011-fig{i}{p}" for i in range(3, 7) for p in "ab"),
+    *(f"zheng2014-fig{i}" for i in range(1, 11)),
+    *(f"zheng2014-table{i}" for i in range(1, 4)),
+)
 
 #: Environment variable naming a folder where
 #: :meth:`fusioncenter.figures.registry.Entry.run_compute` keeps its results.
@@ -395,8 +407,6 @@ def own_ids() -> set[str]:
 
 
 def _order(entry: Entry) -> tuple:
-    from fusioncenter.figures import PAPER_IDS
-
     paper_rank = list(PAPERS).index(entry.paper)
     id_rank = PAPER_IDS.index(entry.id) if entry.id in PAPER_IDS else len(PAPER_IDS)
     return (paper_rank, id_rank)

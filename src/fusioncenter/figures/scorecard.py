@@ -84,6 +84,19 @@ def _details(rows, with_paper: bool, title: str) -> str:
     return "\n".join(lines)
 
 
+def _table(paper: str | None, empty: str, header: tuple[str, ...], cells, after=None) -> str:
+    """A MyST table of the entries of ``paper`` (of all if ``None``): the ``header``, then the
+    ``cells(entry)`` of every entry, and ``after(entries)`` below it; ``empty`` if there are
+    none."""
+    rows = _rows(paper)
+    if not rows:
+        return empty
+    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    lines += ["| " + " | ".join(cells(e)) + " |" for e in rows]
+    table = "\n".join(lines)
+    return table if after is None else table + "\n\n" + after(rows)
+
+
 def scorecard_markdown(paper: str | None = None) -> str:
     """The scorecard of one paper's entries (or of all): a narrow table, details collapsed.
 
@@ -108,19 +121,19 @@ def scorecard_markdown(paper: str | None = None) -> str:
     ValueError
         If ``paper`` is not a known paper.
     """
-    rows = _rows(paper)
-    if not rows:
-        return "*No registry entries for this paper yet: its part's issue adds them.*"
     with_paper = paper is None
-    lines = ["| reproduced in | status | chapter |", "| --- | --- | --- |"]
-    for e in rows:
+
+    def cells(e) -> tuple[str, str, str]:
         if paper_reference(e) == "book's own":  # no paper number: the section names it
             where = (f"{e.paper}, book's own" if with_paper else "book's own") + f": {_link(e)}"
         else:
             where = _link(e, _name(e, with_paper))
-        lines.append(f"| {where} | **{e.status}** | {{doc}}`/{e.chapter}` |")
-    return "\n".join(lines) + "\n\n" + _details(
-        rows, with_paper, "Captions, notes and registry ids of these entries")
+        return where, f"**{e.status}**", f"{{doc}}`/{e.chapter}`"
+
+    return _table(paper, "*No registry entries for this paper yet: its part's issue adds them.*",
+                  ("reproduced in", "status", "chapter"), cells,
+                  lambda rows: _details(rows, with_paper,
+                                        "Captions, notes and registry ids of these entries"))
 
 
 def figure_index_markdown(paper: str) -> str:
@@ -142,13 +155,9 @@ def figure_index_markdown(paper: str) -> str:
     ValueError
         If ``paper`` is not a known paper.
     """
-    rows = _rows(paper)
-    if not rows:
-        return "*No registry entries for this paper yet.*"
-    lines = ["| paper's figure | reproduced in | registry id |", "| --- | --- | --- |"]
-    for e in rows:
-        lines.append(f"| {_cell(paper_reference(e))} | {_link(e)} | `{e.id}` |")
-    return "\n".join(lines)
+    return _table(paper, "*No registry entries for this paper yet.*",
+                  ("paper's figure", "reproduced in", "registry id"),
+                  lambda e: (_cell(paper_reference(e)), _link(e), f"`{e.id}`"))
 
 
 def status_counts(paper: str | None = None) -> dict[str, int]:

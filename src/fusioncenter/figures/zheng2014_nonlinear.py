@@ -19,6 +19,7 @@ results do not depend on it.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -26,8 +27,9 @@ import numpy as np
 
 from fusioncenter import censoring, context, plotting
 from fusioncenter import censoring_nonlinear as cn
-from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.figures.zheng2014 import _settable
+from fusioncenter.context import Parameter
+from fusioncenter.figures.registry import Claim
+from fusioncenter.figures.zheng2014.common import add_entry, settable
 from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -94,8 +96,17 @@ def _sizes(profile: str, over: dict) -> tuple[int, int]:
 
 
 #: The overridable parameters of the filtering entries (Figs. 8-10, Table III).
-SETTABLE = _settable({p: s["trials"] for p, s in SIZES.items()},
-                     {p: s["particles"] for p, s in SIZES.items()})
+SETTABLE = settable({p: s["trials"] for p, s in SIZES.items()},
+                    {p: s["particles"] for p, s in SIZES.items()})
+#: Trajectories simulated for the statements of Fig. 7 (cheap: no filtering).
+TRAJECTORIES = 10_000
+#: The overridable parameters of Fig. 7.
+SETTABLE_FIG7 = (
+    Parameter("trajectories", "int", "simulated trajectories (the ensemble of the statements)",
+              TRAJECTORIES, minimum=2),
+    Parameter("sigma2", "float", "process noise intensity sigma^2 of the white-noise "
+              "acceleration (m^2/s^3)", SCENARIO.sigma2, minimum=1e-12, model=True),
+)
 
 
 def runs(profile: str, seed: int, specs, **over) -> dict[tuple, censoring.CensoringResult]:
@@ -169,13 +180,34 @@ def _z(value: float, se: float) -> float:
 
 
 # ============================================================================ Fig. 7
-def compute_fig7(profile: str, seed: int) -> dict:
-    """One sample trajectory, and an ensemble of trajectories (no filtering: cheap in both
-    profiles) for the statements about where the target goes."""
+def compute_fig7(profile: str, seed: int, **over) -> dict:
+    """One sample trajectory, and an ensemble of trajectories for the statements about where
+    the target goes (no filtering: cheap in both profiles).
+
+    Parameters
+    ----------
+    profile : str
+        ``fast`` or ``paper`` (the same data in both).
+    seed : int
+        The seed of the trajectories.
+    **over
+        ``trajectories`` (default :data:`TRAJECTORIES`) and ``sigma2`` (the process noise of
+        :data:`SCENARIO`).
+
+    Returns
+    -------
+    dict
+        ``time`` (T+1,) s; ``trajectory``, ``velocity`` (T+1, 2) of the sample; ``mean_path``
+        (T+1, 2); ``sensors`` (N, 2), ``region_half_width``; ``fraction_outside`` and
+        ``nearest_distance`` (T+1,) over the ensemble, ``nearest_distance_increase`` (last 5 s)
+        with its stderr; ``ensemble`` (the trajectories), ``x0``, ``seed``.
+    """
     sc = SCENARIO
+    if "sigma2" in over:
+        sc = dataclasses.replace(sc, sigma2=over["sigma2"])
     rng = np.random.default_rng(seed)
     x, _ = sc.sample(rng, 1)
-    ens, _ = sc.sample(rng, 10_000)
+    ens, _ = sc.sample(rng, over.get("trajectories", TRAJECTORIES))
     half = sc.region / 2
     pos = ens[..., [0, 2]]  # (n, T+1, 2)
     outside = np.any(np.abs(pos) > half, axis=-1)
@@ -226,14 +258,15 @@ def checks_fig7(data: dict) -> list[Claim]:
         Claim("the sample trajectory starts at x0 = (-8, -8) m inside the region and crosses it",
               bool(np.allclose(tr[0], data["x0"][[0, 2]]) and inside[: T // 2].all()
                    and np.ptp(tr[:, 0]) > h and np.ptp(tr[:, 1]) > h),
-              f"start {np.round(tr[0], 2)}, end {np.round(tr[-1], 2)} m"),
+              f"start {np.round(tr[0], 2)}, end {np.round(tr[-1], 2)} m", paper_specific=True),
         Claim("the target moves out of the region near the end (most trajectories are inside at "
               "t = 5 s and outside at t = 10 s)", bool(fo[T // 2] < 0.1 and fo[-1] > 0.5),
               f"fraction outside: {fo[T // 2]:.3f} at 5 s, {fo[-1]:.3f} at 10 s "
-              f"({data['ensemble']} trajectories)"),
+              f"({data['ensemble']} trajectories)", paper_specific=True),
         Claim("so the distance to the nearest sensor grows over the last 5 s (less information "
               "at the end)", bool(z_d > Z_ORDER),
-              f"mean increase {data['nearest_distance_increase']:.2f} m, z = {z_d:.1f}"),
+              f"mean increase {data['nearest_distance_increase']:.2f} m, z = {z_d:.1f}",
+              paper_specific=True),
     ]
 
 
@@ -599,68 +632,58 @@ _NOTE_SCENARIO = (
     "[-10, 10]^2 m and the true trajectory starting at x0 = (-8, 2, -8, 2) in every trial (the "
     "filters' prior N(x0, diag(9, 4, 9, 4))): neither is stated in the paper. ")
 
-register(Entry(
-    id="zheng2014-fig7", paper="zheng2014", kind="figure",
-    caption="Nonlinear tracking: the 3 x 3 sensor grid in the 20 m x 20 m region and a sample "
-    "target trajectory (with the mean path).",
-    chapter=CHAPTER, label="sec-zheng2014-fig7", parameters=PARAMS,
-    compute=compute_fig7, plot=plot_fig7, checks=checks_fig7, status="reproduced",
-    note=_NOTE_SCENARIO + "The sensor positions are our choice (the paper draws them but does "
-    "not list them); the statements checked are where the target goes (it leaves the region "
-    "near the end), from 10^4 simulated trajectories.",
-))
 
-register(Entry(
-    id="zheng2014-fig8", paper="zheng2014", kind="figure",
-    caption="Nonlinear tracking with state feedback, l = 2 of N = 9: position and velocity "
+def _entry(entry_id: str, kind: str, status: str, functions: tuple, parameters: dict,
+           caption: str, note: str, settable=SETTABLE) -> None:
+    """Register an entry of this chapter: the scenario's parameters and note, and those given."""
+    add_entry(entry_id, kind, status, functions, chapter=CHAPTER, settable=settable,
+              parameters={**PARAMS, **parameters}, caption=caption, note=_NOTE_SCENARIO + note)
+
+
+_entry(
+    "zheng2014-fig7", "figure", "reproduced", (compute_fig7, plot_fig7, checks_fig7),
+    {"trajectories": TRAJECTORIES},
+    "Nonlinear tracking: the 3 x 3 sensor grid in the 20 m x 20 m region and a sample "
+    "target trajectory (with the mean path).",
+    "The sensor positions are our choice (the paper draws them but does "
+    "not list them); the statements checked are where the target goes (it leaves the region "
+    "near the end), from 10^4 simulated trajectories.", settable=SETTABLE_FIG7)
+
+_entry(
+    "zheng2014-fig8", "figure", "reproduced", (compute_fig8, plot_fig8, checks_fig8),
+    {"l": L_FIG8, "feedback": "state (Proposition 7)"},
+    "Nonlinear tracking with state feedback, l = 2 of N = 9: position and velocity "
     "RMSE of all-send, random selection, CFoMD and CFwMD.",
-    chapter=CHAPTER, label="sec-zheng2014-fig8",
-    parameters={**PARAMS, "l": L_FIG8, "feedback": "state (Proposition 7)"},
-    settable=SETTABLE,
-    compute=compute_fig8, plot=plot_fig8, checks=checks_fig8, status="reproduced",
-    note=_NOTE_SCENARIO + "The orderings the paper states hold with paired errors (CFwMD < "
+    "The orderings the paper states hold with paired errors (CFwMD < "
     "CFoMD < random; all-send best; RMSE rising at the end). Our copy of the paper has no "
     "numbers for the curves, so only the orderings are compared. CFwMD sends about 1.5 "
-    "measurements per step (target 2): it saves more than the 78 % the paper quotes.",
-))
+    "measurements per step (target 2): it saves more than the 78 % the paper quotes.")
 
-register(Entry(
-    id="zheng2014-fig9", paper="zheng2014", kind="figure",
-    caption="Nonlinear tracking: time-averaged RMSE against the average number of transmissions "
+_entry(
+    "zheng2014-fig9", "figure", "reproduced", (compute_fig9, plot_fig9, checks_fig9),
+    {"l": list(L_FIG9), "feedback": "state (Proposition 7)",
+     "x_axis": "measured average transmissions per step; all-send at 9"},
+    "Nonlinear tracking: time-averaged RMSE against the average number of transmissions "
     "per step, l in {1, 2, 4, 6, 8}, state feedback.",
-    chapter=CHAPTER, label="sec-zheng2014-fig9",
-    parameters={**PARAMS, "l": list(L_FIG9), "feedback": "state (Proposition 7)",
-                "x_axis": "measured average transmissions per step; all-send at 9"},
-    settable=SETTABLE,
-    compute=compute_fig9, plot=plot_fig9, checks=checks_fig9, status="reproduced",
-    note=_NOTE_SCENARIO + "The values of l are our choice (the paper does not list them). "
+    "The values of l are our choice (the paper does not list them). "
     "Runs at l = 2 are those of Fig. 8 and the CFwMD runs at l = 2, 4, 6 those of Fig. 10. "
     "Beyond the paper: at paper scale random selection beats CFoMD from l = 6 on (paired z = "
-    "-4.7, -10.0): dropping the silences biases CFoMD.",
-))
+    "-4.7, -10.0): dropping the silences biases CFoMD.")
 
-register(Entry(
-    id="zheng2014-fig10", paper="zheng2014", kind="figure",
-    caption="Nonlinear tracking: position RMSE of CFwMD (state feedback) and CFwMD2 (state and "
+_entry(
+    "zheng2014-fig10", "figure", "reproduced", (compute_fig10, plot_fig10, checks_fig10),
+    {"l": list(L_FIG10), "feedback": "state (Proposition 7) vs state+cov (Proposition 8)"},
+    "Nonlinear tracking: position RMSE of CFwMD (state feedback) and CFwMD2 (state and "
     "covariance feedback) for l = 2, 4, 6.",
-    chapter=CHAPTER, label="sec-zheng2014-fig10",
-    parameters={**PARAMS, "l": list(L_FIG10),
-                "feedback": "state (Proposition 7) vs state+cov (Proposition 8)"},
-    settable=SETTABLE,
-    compute=compute_fig10, plot=plot_fig10, checks=checks_fig10, status="reproduced",
-    note=_NOTE_SCENARIO + "Shares its runs with Table III (one computation).",
-))
+    "Shares its runs with Table III (one computation).")
 
-register(Entry(
-    id="zheng2014-table3", paper="zheng2014", kind="table",
-    caption="Average number of transmissions per step, nonlinear system: CFwMD vs CFwMD2 for "
+_entry(
+    "zheng2014-table3", "table", "differs", (compute_table3, plot_table3, checks_table3),
+    {"l": list(L_FIG10), "printed": TABLE3_PRINTED},
+    "Average number of transmissions per step, nonlinear system: CFwMD vs CFwMD2 for "
     "l = 2, 4, 6, against the printed Table III.",
-    chapter=CHAPTER, label="sec-zheng2014-table3",
-    parameters={**PARAMS, "l": list(L_FIG10), "printed": TABLE3_PRINTED},
-    settable=SETTABLE,
-    compute=compute_table3, plot=plot_table3, checks=checks_table3, status="differs",
-    note=_NOTE_SCENARIO + "The paper's statements hold (CFwMD sends fewer than l; CFwMD2 is "
+    "The paper's statements hold (CFwMD sends fewer than l; CFwMD2 is "
     "closer to l and removes more than half of the shortfall), but the numbers are lower than "
     "printed: at paper scale CFwMD by 5-7 % (z = -4.8 to -9.9, the paper's own 200-trial error "
     "included), CFwMD2 by 1-3 % (z = -1.9, -1.4, -3.2). How far the sensors under-send depends "
-    "on the unstated sensor positions and start of the track."))
+    "on the unstated sensor positions and start of the track.")

@@ -27,32 +27,11 @@ import numpy as np
 from fusioncenter import censoring as cs
 from fusioncenter import censoring_vector as cv
 from fusioncenter import context, plotting
-from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.figures.zheng2014 import (  # shared with the scalar entries (Z_* = 4)
-    SCHEMES,
-    Z_ORDER,
-    Z_TOL,
-    _by_l_data,
-    _by_l_panels,
-    _curves,
-    _pairs,
-    _printed_max_abs_diff,
-    _rmse_panels,
-    _schemes_data,
-    _settable,
-    _size,
-    _stack,
-    _stacked,
-    _transmissions_data,
-    _transmissions_plot,
-    _z_claim_ordered,
-    checks_fig1,
-)
+from fusioncenter.figures.registry import Claim
+from fusioncenter.figures.zheng2014 import common  # shared with the scalar entries (Z_* = 4)
 
 #: Ids of the book's own figures registered here (not figures of the paper).
 OWN_IDS: tuple[str, ...] = ()
-
-CHAPTER = "book/zheng2014/vector"
 
 #: Monte Carlo trials and particles (paper, Section VII.B: 5000 trials; N_s = 1000 particles as
 #: in Section VII.A).
@@ -65,10 +44,12 @@ PARTICLES_FIG5 = {"fast": 200, "paper": 1000}
 #: Fig. 6: the exact filter's gain over CFoMD is smaller: more trials in the fast profile.
 TRIALS_FIG6 = {"fast": 512, "paper": 5000}
 
+CHAPTER = "book/zheng2014/vector"
 LABELS = {"all-send": "all-send", "random": "random selection", "cfomd": "CFoMD",
           "cfwmd": "CFwMD", "cfwmd2": "CFwMD2", "printed": "CFwMD, Prop. 6 as printed",
           "exact": "CFwMD, exact filter"}
 L_FIG5 = (1.0, 2.0, 3.0)
+FIG5 = {"N": 4, "l": list(L_FIG5), "feedback": ["state (CFwMD)", "state+cov (CFwMD2)"]}
 #: Table II of the paper (experimental average number of transmissions, N = 4).
 PAPER_TABLE2 = {"cfwmd": (0.9296, 1.7573, 2.8029), "cfwmd2": (1.0069, 2.0035, 3.0151)}
 
@@ -103,11 +84,11 @@ DATA_KEYS = {
 
 
 # ------------------------------------------------------------------------- running
-def _run(sc: cv.VectorScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
-         seed: int, likelihood: str = "exact", pool=None) -> cs.CensoringResult:
-    return cv.run(sc, scheme, l=l, n_trials=n, n_particles=P, seed=seed, feedback=feedback,
-                  likelihood=likelihood, executor=pool,
-                  chunk_size=None if pool is None else 256)
+def _run(sc: cv.VectorScenario, scheme: str, *, likelihood: str = "exact", executor=None,
+         **kw) -> cs.CensoringResult:
+    """:func:`run_scheme` with the exact no-feedback filter, in chunks of 256 on an executor."""
+    return common.run_scheme(sc, scheme, likelihood=likelihood, executor=executor,
+                             chunk_size=None if executor is None else 256, **kw)
 
 
 # Where the trials run is the execution context's (fusioncenter.context.executor()); the data
@@ -129,17 +110,17 @@ FIG4 = {"N": 2, "l": 1.0, "feedback": "state"}
 def _fig4_runs(seed: int, n: int, P: int) -> tuple:
     sc = cv.VectorScenario(N=FIG4["N"])
     ex = context.executor()
-    return tuple(_run(sc, s, feedback="state", l=FIG4["l"], n=n, P=P, seed=seed, pool=ex)
-                 for s in SCHEMES)
+    return tuple(_run(sc, s, feedback="state", l=FIG4["l"], n=n, P=P, seed=seed, executor=ex)
+                 for s in common.SCHEMES)
 
 
 def compute_fig4(profile: str, seed: int, **over) -> dict:
-    return _schemes_data(_fig4_runs(seed, *_size(profile, TRIALS, PARTICLES, over)),
-                         FIG4["N"], FIG4["l"])
+    runs = _fig4_runs(seed, *common.run_size(profile, TRIALS, PARTICLES, over))
+    return common.schemes_data(runs, FIG4["N"], FIG4["l"])
 
 
 def plot_fig4(data: dict):
-    fig = _rmse_panels(data, list(data["schemes"]), LABELS)
+    fig = common.rmse_panels(data, list(data["schemes"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, feedback of the predicted state, "
                                       f"N = {data['N']}, l = {data['l']:g} "
                                       f"({data['n_trials']} trials, {data['n_particles']} "
@@ -147,39 +128,31 @@ def plot_fig4(data: dict):
 
 
 #: The paper says of Fig. 4 what it says of Fig. 1: the same claims.
-checks_fig4 = checks_fig1
+checks_fig4 = common.checks_schemes
 
 
-register(Entry(
-    id="zheng2014-fig4", paper="zheng2014", kind="figure",
+common.add_entry(
+    "zheng2014-fig4", "figure", "reproduced", (compute_fig4, plot_fig4, checks_fig4),
+    chapter=CHAPTER,
+    parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="state"),
+    settable=common.settable(TRIALS, PARTICLES),
     caption="Vector observations (H = I, R = diag(2, 4)), N = 2 sensors, feedback of the "
     "predicted state, l = 1: position and velocity RMSE against time of all-send, random "
     "selection, CFoMD and CFwMD (Monte Carlo, 95 % bands).",
-    chapter=CHAPTER, label="sec-zheng2014-fig4",
-    parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="state"),
-    compute=compute_fig4, plot=plot_fig4, checks=checks_fig4, status="reproduced",
-    settable=_settable(TRIALS, PARTICLES),
     note="The ordering all-send < CFwMD < CFoMD < random of Section VII.A holds for position "
     "and velocity with large paired z-scores, which is what the paper says of Fig. 4. The "
     "figure's values are not given in the text, so only the ordering and the transmission "
-    "rate are compared. The silent factor is computed by quadrature (the paper sampled it).",
-))
+    "rate are compared. The silent factor is computed by quadrature (the paper sampled it).")
 
 
 # ============================================================== Fig. 5 and Table II
-FIG5 = {"N": 4, "l": list(L_FIG5), "feedback": ["state (CFwMD)", "state+cov (CFwMD2)"]}
 
 
 @functools.lru_cache(maxsize=4)
 def _fig5_runs(seed: int, n: int, P: int) -> tuple:
     """(CFwMD runs, CFwMD2 runs) at every l: shared by Fig. 5 and Table II."""
-    sc = cv.VectorScenario(N=FIG5["N"])
-    ex = context.executor()
-    a = tuple(_run(sc, "cfwmd", feedback="state", l=l, n=n, P=P, seed=seed, pool=ex)
-              for l in L_FIG5)
-    b = tuple(_run(sc, "cfwmd", feedback="state+cov", l=l, n=n, P=P, seed=seed, pool=ex)
-              for l in L_FIG5)
-    return a, b
+    return common.by_l_runs(_run, cv.VectorScenario(N=FIG5["N"]), L_FIG5, n=n, P=P,
+                            seed=seed, executor=context.executor())
 
 
 def _silent_steps(res: cs.CensoringResult) -> float:
@@ -188,13 +161,13 @@ def _silent_steps(res: cs.CensoringResult) -> float:
 
 
 def compute_fig5(profile: str, seed: int, **over) -> dict:
-    a, b = _fig5_runs(seed, *_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
-    return _by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
+    a, b = _fig5_runs(seed, *common.run_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
+    return common.by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
         [[_silent_steps(r) for r in a], [_silent_steps(r) for r in b]]))
 
 
 def plot_fig5(data: dict):
-    return plotting.finish(_by_l_panels(data, l_ticks=True),
+    return plotting.finish(common.by_l_panels(data, l_ticks=True),
                            title=f"vector observations ({data['n_trials']} trials, "
                                  f"{data['n_particles']} particles)")
 
@@ -207,33 +180,30 @@ def checks_fig5(data: dict) -> list[Claim]:
     sil = data["silent_steps"]
     return [
         Claim("l = 2, 3: CFwMD2 beats CFwMD (paired differences of the time-averaged position "
-              "RMSE), as the paper says", bool(np.all(-z[hi] > Z_ORDER)),
+              "RMSE), as the paper says", bool(np.all(-z[hi] > common.Z_ORDER)),
               "; ".join(f"l = {li:g}: CFwMD2 - CFwMD = {di:+.4f} +/- {si:.4f} (z = {zi:.1f})"
                         for li, di, si, zi in zip(l[hi], d[hi], s[hi], z[hi], strict=True))),
         Claim("l = 1: CFwMD beats CFwMD2, as with scalar observations (Fig. 2) -- the paper "
               "reports CFwMD2 better at every l for vector observations",
-              bool(z[i1] > Z_ORDER),
+              bool(z[i1] > common.Z_ORDER),
               f"CFwMD2 - CFwMD = {d[i1]:+.4f} +/- {s[i1]:.4f} m (z = {z[i1]:.1f})"),
         Claim("l = 1: about 40 % of the steps carry no measurement under both schemes (the "
               "paper's (3/4)^4 = 0.32 for independent sensors, more with feedback)",
               bool(np.all((sil[:, i1] > 0.32) & (sil[:, i1] < 0.5))),
               f"fraction of silent steps: CFwMD {sil[0, i1]:.4f}, CFwMD2 {sil[1, i1]:.4f}"),
-        Claim("the RMSE of both schemes decreases as l grows",
-              bool(np.all(np.diff(data["tavg_position"], axis=1) < 0)),
-              "CFwMD " + ", ".join(f"{v:.3f}" for v in data["tavg_position"][0])
-              + "; CFwMD2 " + ", ".join(f"{v:.3f}" for v in data["tavg_position"][1])),
+        common.claim_rmse_decreases(data),
     ]
 
 
 def compute_table2(profile: str, seed: int, **over) -> dict:
-    a, b = _fig5_runs(seed, *_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
-    return _transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
+    a, b = _fig5_runs(seed, *common.run_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
+    return common.transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
 
 
 def plot_table2(data: dict):
-    return _transmissions_plot(data, LABELS, "II", f"N = {data['N']}, vector observations: "
-                               f"average transmissions per step ({data['n_trials']} trials)",
-                               l_ticks=True)
+    title = (f"N = {data['N']}, vector observations: average transmissions per step "
+             f"({data['n_trials']} trials)")
+    return common.transmissions_plot(data, LABELS, "II", title, l_ticks=True)
 
 
 def checks_table2(data: dict) -> list[Claim]:
@@ -243,52 +213,49 @@ def checks_table2(data: dict) -> list[Claim]:
     za, zb = data["z_cfwmd"], data["z_cfwmd2"]
     return [
         Claim("l > 1: CFwMD2 sends closer to l than CFwMD (paired, per-trial averages)",
-              bool(np.all(cz[hi] > Z_ORDER)),
+              bool(np.all(cz[hi] > common.Z_ORDER)),
               "; ".join(f"l = {li:g}: z = {zi:.1f}" for li, zi in zip(l, cz, strict=True))),
         Claim("l > 1: CFwMD sends fewer than l (its S_k^i ignores the feedback's error, "
               "Remark 1 (III))",
-              bool(np.all((a - l)[hi] / data["cfwmd_stderr"][hi] < -Z_ORDER)),
+              bool(np.all((a - l)[hi] / data["cfwmd_stderr"][hi] < -common.Z_ORDER)),
               ", ".join(f"{v:.4f}" for v in a)),
         Claim("CFwMD2 is within 0.03 transmissions per step of the paper's Table II at every l",
               bool(np.all(np.abs(b - data["paper_cfwmd2"]) < 0.03)),
               "ours - paper = " + ", ".join(f"{v:+.4f}" for v in b - data["paper_cfwmd2"])
               + "; z = " + ", ".join(f"{v:.2f}" for v in zb)),
         Claim("l = 2: CFwMD agrees with the paper's Table II (|z| < 4)",
-              bool(abs(za[l == 2.0][0]) < Z_TOL),
+              bool(abs(za[l == 2.0][0]) < common.Z_TOL),
               "z = " + ", ".join(f"{v:.2f}" for v in za) + " (l = 1, 2, 3); ours - paper = "
               + ", ".join(f"{v:+.4f}" for v in a - data["paper_cfwmd"])),
     ]
 
 
 _sc4 = cv.VectorScenario(N=4)
-register(Entry(
-    id="zheng2014-fig5", paper="zheng2014", kind="figure",
-    caption="Vector observations, N = 4 sensors, l in {1, 2, 3}: position RMSE of CFwMD "
-    "(predicted state fed back) and CFwMD2 (predicted state and covariance fed back).",
-    chapter=CHAPTER, label="sec-zheng2014-fig5",
+common.add_entry(
+    "zheng2014-fig5", "figure", "differs", (compute_fig5, plot_fig5, checks_fig5),
+    chapter=CHAPTER,
     parameters=_params(_sc4, l=list(L_FIG5), feedback=["state", "state+cov"],
                        trials=dict(TRIALS_FIG5), particles=dict(PARTICLES_FIG5)),
-    compute=compute_fig5, plot=plot_fig5, checks=checks_fig5, status="differs",
-    settable=_settable(TRIALS_FIG5, PARTICLES_FIG5),
+    settable=common.settable(TRIALS_FIG5, PARTICLES_FIG5),
+    caption="Vector observations, N = 4 sensors, l in {1, 2, 3}: position RMSE of CFwMD "
+    "(predicted state fed back) and CFwMD2 (predicted state and covariance fed back).",
     note="CFwMD2 beats CFwMD at l = 2 and 3, as in the paper, but at l = 1 CFwMD is better -- "
     "the reversal the paper reports for scalar observations (Fig. 2) and says it did not "
     "observe for vector ones. The paper's explanation for the scalar case (longer runs of "
     "silent steps under CFwMD2) does not carry over: both schemes leave about 40 % of the "
     "steps silent. The l values are those of Table II (the figure's are not stated); "
-    "R = diag(2, 4) for all four sensors (stated for sensors 1, 2 only).",
-))
+    "R = diag(2, 4) for all four sensors (stated for sensors 1, 2 only).")
 
-register(Entry(
-    id="zheng2014-table2", paper="zheng2014", kind="table",
-    caption="Average number of transmissions per step (N = 4, vector observations) of CFwMD "
-    "and CFwMD2 for each target l, with Monte Carlo standard errors, next to the paper's "
-    "Table II.",
-    chapter=CHAPTER, label="sec-zheng2014-table2",
+common.add_entry(
+    "zheng2014-table2", "table", "differs", (compute_table2, plot_table2, checks_table2),
+    chapter=CHAPTER,
     parameters=_params(_sc4, l=list(L_FIG5), feedback=["state", "state+cov"],
                        trials=dict(TRIALS_FIG5), particles=dict(PARTICLES_FIG5),
                        paper_values=PAPER_TABLE2),
-    compute=compute_table2, plot=plot_table2, checks=checks_table2, status="differs",
-    settable=_settable(TRIALS_FIG5, PARTICLES_FIG5),
+    settable=common.settable(TRIALS_FIG5, PARTICLES_FIG5),
+    caption="Average number of transmissions per step (N = 4, vector observations) of CFwMD "
+    "and CFwMD2 for each target l, with Monte Carlo standard errors, next to the paper's "
+    "Table II.",
     note="Same runs as Fig. 5. CFwMD2 meets the target l closely for every l and is closer "
     "to it than CFwMD for l > 1, as in the paper; it agrees with the printed CFwMD2 values "
     "within 0.02 (at the paper's scale z = -1.4, -0.8, -3.7). CFwMD agrees with the printed "
@@ -296,8 +263,7 @@ register(Entry(
     "against 0.9296, z = 17: the paper's FC would predict better than a sensor's own filter) "
     "nor at l = 3 (2.7706 +/- 0.0032 against 2.8029, z = -7). The rate of CFwMD depends on "
     "how well the FC predicts relative to the sensors' own filters, hence on open choices "
-    "(what is fed back, the initial state, R of sensors 3 and 4).",
-))
+    "(what is fed back, the initial state, R of sensors 3 and 4).")
 
 
 # ============================================================== Fig. 6 (no feedback)
@@ -310,27 +276,27 @@ def _fig6_runs(seed: int, n: int, P: int) -> tuple:
     sc = cv.VectorScenario(N=FIG6["N"])
     l = FIG6["l"]
     ex = context.executor()
-    runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, pool=ex)
+    runs = [_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, executor=ex)
             for s in ("all-send", "random", "cfomd")]
     for lk in ("printed", "exact"):
         runs.append(_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
-                         likelihood=lk, pool=ex))
+                         likelihood=lk, executor=ex))
     return tuple(runs)
 
 
 def compute_fig6(profile: str, seed: int, **over) -> dict:
-    runs = _fig6_runs(seed, *_size(profile, TRIALS_FIG6, PARTICLES, over))
+    runs = _fig6_runs(seed, *common.run_size(profile, TRIALS_FIG6, PARTICLES, over))
     by = dict(zip(FIG6_CURVES, runs, strict=True))
-    cur = [_curves(r) for r in runs]
-    printed_diff = _printed_max_abs_diff(by)
+    cur = [common.curves(r) for r in runs]
+    printed_diff = common.printed_max_abs_diff(by)
     pairs = [("all-send", "cfomd"), ("cfomd", "random"), ("exact", "cfomd")]
-    dp, sp, dv, sv = _pairs(by, pairs)
+    dp, sp, dv, sv = common.pair_differences(by, pairs)
     sc = runs[0].scenario
     mass = np.array([cv.printed_mass(sc, FIG6["l"], t) for t in range(1, sc.T + 1)])
     return {
         "time": runs[0].time.astype(float), "curves": np.array(FIG6_CURVES),
-        **_stacked(cur),
-        "collapsed": _stack(cur, "col"), "printed_max_abs_diff": printed_diff,
+        **common.stacked(cur),
+        "collapsed": common.stack(cur, "col"), "printed_max_abs_diff": printed_diff,
         "pairs": np.array(pairs), "pair_diff": dp, "pair_stderr": sp,
         "pair_diff_velocity": dv, "pair_stderr_velocity": sv, "printed_mass": mass,
         "n_trials": runs[0].mc.n_trials, "n_particles": runs[0].n_particles,
@@ -339,7 +305,7 @@ def compute_fig6(profile: str, seed: int, **over) -> dict:
 
 
 def plot_fig6(data: dict):
-    fig = _rmse_panels(data, list(data["curves"]), LABELS)
+    fig = common.rmse_panels(data, list(data["curves"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, no feedback, N = {data['N']}, "
                                       f"l = {data['l']:g} ({data['n_trials']} trials, "
                                       f"{data['n_particles']} particles)")
@@ -349,10 +315,6 @@ def checks_fig6(data: dict) -> list[Claim]:
     names = [tuple(p) for p in data["pairs"]]
     d, s = data["pair_diff"], data["pair_stderr"]
     dv, sv = data["pair_diff_velocity"], data["pair_stderr_velocity"]
-
-    def pick(dd, ss, *want):
-        idx = [names.index(w) for w in want]
-        return [names[i] for i in idx], dd[idx], ss[idx]
 
     cvs = list(data["curves"])
     tr, tre = data["transmissions"], data["transmissions_stderr"]
@@ -365,34 +327,33 @@ def checks_fig6(data: dict) -> list[Claim]:
         Claim("Proposition 6 as printed is not a likelihood: it sums to more than 2 over the "
               "outcomes (a likelihood sums to 1)", bool(np.all(mass > 2.0)),
               f"sum over outcomes between {mass.min():.4f} and {mass.max():.4f}"),
-        _z_claim_ordered("all-send < CFoMD < random selection (paired, position)",
-                         *pick(d, s, ("all-send", "cfomd"), ("cfomd", "random"))),
-        _z_claim_ordered("the exact no-feedback CFwMD beats CFoMD (paired, position and "
-                         "velocity), as the paper's CFwMD does in Fig. 6",
-                         [("exact", "cfomd")] * 2,
-                         np.array([d[names.index(("exact", "cfomd"))],
-                                   dv[names.index(("exact", "cfomd"))]]),
-                         np.array([s[names.index(("exact", "cfomd"))],
-                                   sv[names.index(("exact", "cfomd"))]])),
+        common.z_claim_ordered("all-send < CFoMD < random selection (paired, position)",
+                               *common.pick_pairs(names, d, s, ("all-send", "cfomd"),
+                                                  ("cfomd", "random"))),
+        common.z_claim_ordered("the exact no-feedback CFwMD beats CFoMD (paired, position and "
+                               "velocity), as the paper's CFwMD does in Fig. 6",
+                               [("exact", "cfomd")] * 2,
+                               np.array([d[names.index(("exact", "cfomd"))],
+                                         dv[names.index(("exact", "cfomd"))]]),
+                               np.array([s[names.index(("exact", "cfomd"))],
+                                         sv[names.index(("exact", "cfomd"))]])),
         Claim("without feedback the censoring meets the design rate: l sensors per step",
-              bool(zc < Z_TOL), f"{tr[cvs.index('cfomd')]:.4f} per step (z = {zc:.2f})"),
+              bool(zc < common.Z_TOL), f"{tr[cvs.index('cfomd')]:.4f} per step (z = {zc:.2f})"),
     ]
 
 
-register(Entry(
-    id="zheng2014-fig6", paper="zheng2014", kind="figure",
+common.add_entry(
+    "zheng2014-fig6", "figure", "differs", (compute_fig6, plot_fig6, checks_fig6),
+    chapter=CHAPTER,
+    parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="none",
+                       likelihood=["printed", "exact"], trials=dict(TRIALS_FIG6)),
+    settable=common.settable(TRIALS_FIG6, PARTICLES),
     caption="Vector observations, no feedback, N = 2, l = 1: position and velocity RMSE of "
     "all-send, random selection, CFoMD and CFwMD, the last with Proposition 6 as printed and "
     "with the exact no-feedback filter.",
-    chapter=CHAPTER, label="sec-zheng2014-fig6",
-    parameters=_params(cv.VectorScenario(N=2), l=1.0, feedback="none",
-                       likelihood=["printed", "exact"], trials=dict(TRIALS_FIG6)),
-    compute=compute_fig6, plot=plot_fig6, checks=checks_fig6, status="differs",
-    settable=_settable(TRIALS_FIG6, PARTICLES),
     note="Proposition 6 as printed, with the paper's law (21) for the local predictions, "
     "weights the particles exactly as CFoMD (every silent factor integrates to a constant in "
     "x) and sums to about 2.27 over the outcomes, so it cannot produce the gain of the "
     "paper's Fig. 6 (the errata of the scalar Proposition 3 carry over). The exact "
     "no-feedback filter (particles carry every sensor's local prediction) uses the silent "
-    "sensors and beats CFoMD, as the paper's CFwMD does; random selection is worst.",
-))
+    "sensors and beats CFoMD, as the paper's CFwMD does; random selection is worst.")

@@ -1,0 +1,74 @@
+"""Registry entries of Part IV(a) (zheng2014), Section VII.A: linear tracking, scalar observations.
+
+* ``zheng2014-fig1``: feedback of the predicted state, ``N = 2``, ``l = 1``: position and velocity
+  RMSE of all-send, random selection, CFoMD and CFwMD.
+* ``zheng2014-fig2``: ``N = 4``, ``l`` in {1, 1.2, 1.5, 2, 3}: CFwMD (state fed back) against
+  CFwMD2 (state and covariance fed back).
+* ``zheng2014-table1``: the average number of transmissions per step of the same runs, next to
+  the paper's printed values.
+* ``zheng2014-fig3``: no feedback, ``N = 2``, ``l = 1``: the four schemes, with CFwMD's
+  Proposition 3 as printed (it equals CFoMD: erratum), corrected, and the exact filter.
+* ``zheng2014-table1-choices`` (the book's own): Table I under the choices the paper leaves open.
+
+The package is split in three: :mod:`~fusioncenter.figures.zheng2014.common` (what these
+entries share with those of :mod:`fusioncenter.figures.zheng2014_vector` and
+:mod:`fusioncenter.figures.zheng2014_nonlinear`: run sizes, curves, paired differences, plots,
+claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-3 and Table I)
+and :mod:`~fusioncenter.figures.zheng2014.choices` (the book's own sensitivity table). The
+names below are re-exported here.
+
+Every choice the paper leaves open is listed in each entry's ``parameters`` (from
+:attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through
+:func:`fusioncenter.censoring.run`: for one seed the trials (truth and measurements) are shared
+by every scheme and every ``l`` of an entry, so differences between curves are paired.
+
+Data keys (plain NumPy arrays and numbers; the chapter ``book/zheng2014/results`` prints them):
+see :data:`~fusioncenter.figures.zheng2014.linear.DATA_KEYS`.
+"""
+
+from fusioncenter.figures.zheng2014.choices import (
+    CHOICES,
+    PARTICLES_CHOICES,
+    TRIALS_CHOICES,
+    checks_choices,
+    compute_choices,
+    plot_choices,
+)
+from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES, Z_ORDER, Z_TOL
+from fusioncenter.figures.zheng2014.linear import (
+    CHAPTER,
+    DATA_KEYS,
+    FIG1,
+    FIG2,
+    FIG3,
+    FIG3_CURVES,
+    L_FIG2,
+    OWN_IDS,
+    PAPER_TABLE1,
+    PARTICLES,
+    PARTICLES_FIG2,
+    TRIALS,
+    TRIALS_FIG2,
+    TRIALS_NOFB_HEAVY,
+    checks_fig1,
+    checks_fig2,
+    checks_fig3,
+    checks_table1,
+    compute_fig1,
+    compute_fig2,
+    compute_fig3,
+    compute_table1,
+    plot_fig1,
+    plot_fig2,
+    plot_fig3,
+    plot_table1,
+)
+
+__all__ = [
+    "CHAPTER", "CHOICES", "DATA_KEYS", "FIG1", "FIG2", "FIG3", "FIG3_CURVES", "LABELS", "L_FIG2",
+    "OWN_IDS", "PAPER_TABLE1", "PARTICLES", "PARTICLES_CHOICES", "PARTICLES_FIG2", "SCHEMES",
+    "TRIALS", "TRIALS_CHOICES", "TRIALS_FIG2", "TRIALS_NOFB_HEAVY", "Z_ORDER", "Z_TOL",
+    "checks_choices", "checks_fig1", "checks_fig2", "checks_fig3", "checks_table1",
+    "compute_choices", "compute_fig1", "compute_fig2", "compute_fig3", "compute_table1",
+    "plot_choices", "plot_fig1", "plot_fig2", "plot_fig3", "plot_table1",
+]
