@@ -1,0 +1,105 @@
+"""Part III (leong2011): the parameters shared by the figures, and their helpers."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fusioncenter.context import Parameter
+
+#: Ids of the book's own figures registered here (not figures of the paper).
+OWN_IDS: tuple[str, ...] = ()
+
+CH_ASYMPTOTICS = "book/leong2011/asymptotics"
+CH_ALLOCATION = "book/leong2011/allocation"
+CH_FADING = "book/leong2011/fading"
+
+#: Fig. 1 (paper, Section V.A); the range of M is our choice (the paper does not state it).
+FIG1 = {"a": 0.8, "sigma_w2": 1.5, "sigma_n2": 1.0, "c": 1.0, "sigma_v2": 1.0, "h": 0.8,
+        "alpha": "1/sqrt(M)", "M": [1, 100], "M_note": "range of M chosen (not stated)"}
+#: Fig. 2: ranges from the paper; uniform draws, nested sensors and M range are our choices.
+FIG2 = {"a": 0.9, "sigma_w2": 1.0, "sigma_n2": 1.0, "c_range": [0.5, 1.0],
+        "sigma_v2_range": [0.5, 1.0], "h_range": [0.5, 1.0], "alpha": "1/sqrt(M)",
+        "M": [1, 100],
+        "draws": "one seeded draw of 100 sensors, each uniform on its range (distribution not "
+                 "stated); the first M sensors are used for each M",
+        "bounds": "(37) with the range endpoints as h_min, h_max, c_min, c_max, sigma_min^2, "
+                  "sigma_max^2"}
+#: Figs. 3-6: the paper's parameters; M grid, infeasibility handling and initial variances are
+#: our choices.
+STATIC = {"a": 0.9, "sigma_w2": 1.0, "sigma_n2": 1e-9, "c": 1.0,
+          "sigma_v2": "chi2(1) per sensor", "h": "d^-2 with d ~ U(20, 100) m per sensor",
+          "D": 2.0, "gamma_total": 1e-3, "M": list(range(2, 21, 2)),
+          "realizations": {"fast": 100, "paper": 1000},
+          "equal_power": "(a): least common per-sensor power (15) meeting D, alpha_i c_i > 0; "
+                         "(b): (16)",
+          "infeasible": "realizations where a compared scheme cannot meet D are redrawn "
+                        "(M grid chosen; the paper states neither)"}
+#: Figs. 5-6 (fading channels), as in :data:`STATIC` apart from the channel model.
+FADING = {"a": 0.9, "sigma_w2": 1.0, "sigma_n2": 1e-9, "c": 1.0,
+          "sigma_v2": "chi2(1) per sensor",
+          "h": "Re, Im of h~_{i,k} i.i.d. d_i^-2 N(mu_i, 1); d_i ~ U(20, 100) m, "
+               "mu_i ~ U(1/2, 1)",
+          "D": 2.0, "gamma_total": 1e-3, "M": list(range(2, 21, 2)),
+          "steps": {"fast": 200, "paper": 1000}, "realizations": {"fast": 20, "paper": 100},
+          "P0": "(a) P_0 = D (the greedy scheme starts at the target, so every step solves the "
+                "same problem, Section IV.D.1); (b) P_0 = sigma_w2/(1-a^2); averages over "
+                "P_1..P_steps",
+          "no_csi": "alpha~_i = alpha_i conj(E h~_i)/|E h~_i|, alpha optimized once for the "
+                    "steady state of the linear MMSE estimator (32)",
+          "lmmse_check": {"trials": {"fast": 1000, "paper": 2000}, "steps": 60},
+          "infeasible": "(a): realizations where either scheme cannot meet D are redrawn "
+                        "(M grid, P_0 and the redraw are our choices)"}
+
+#: z-score tolerance of the Monte Carlo checks (as in the other parts).
+Z_TOL = 4.0
+#: closed forms against the numerical optimizer / constraint equalities
+REL_TOL = 1e-6
+
+
+
+def xy(D, a, sw):
+    """The two sides of the error-target constraint ``P_inf <= D``.
+
+    Parameters
+    ----------
+    D : float
+        The error target.
+    a, sw : float
+        The state transition and the process-noise variance.
+
+    Returns
+    -------
+    tuple of float
+        ``(x, y) = (a^2 D + sw - D, D (D - sw))``: the target is met iff the SNR is at least
+        ``x / y``.
+    """
+    return a**2 * D + sw - D, D * (D - sw)
+
+
+def m_seed(seed: int, M: int, salt: int = 0) -> int:
+    """The seed of one point (``M`` sensors) of a figure, derived from the entry's seed.
+
+    Parameters
+    ----------
+    seed : int
+        The entry's seed.
+    M : int
+        The number of sensors.
+    salt : int
+        Separates the streams of different uses at the same ``M``.
+
+    Returns
+    -------
+    int
+        A 32-bit seed from ``numpy.random.SeedSequence([seed, M, salt])``.
+    """
+    return int(np.random.SeedSequence([seed, M, salt]).generate_state(1)[0])
+
+
+#: The overridable parameters (Monte Carlo accuracy only: every claim applies).
+SETTABLE_STATIC = (Parameter("realizations", "int", "random sensor draws per point",
+                             dict(STATIC["realizations"]), minimum=2),)
+SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per point",
+                             dict(FADING["realizations"]), minimum=2),
+                   Parameter("steps", "int", "fading steps per realization",
+                             dict(FADING["steps"]), minimum=2))
