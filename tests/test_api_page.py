@@ -53,6 +53,7 @@ def test_literal_blocks_and_constants_are_left_alone():
 
 @pytest.mark.parametrize("path", ["book.py", "profile.py", "censoring_compare.py",
                                   "figures/scorecard.py", "figures/background.py",
+                                  "figures/common.py",
                                   *(f"figures/dey2009/{m}.py" for m in (
                                       "common", "scalar", "multisensor", "ordering", "vector",
                                       "distribution")),

@@ -70,11 +70,13 @@ from fusioncenter.figures.dey2009.ordering import (
 )
 from fusioncenter.figures.dey2009.vector import (
     checks_vector,
+    SETTABLE_VECTOR,
     compute_vector,
     plot_vector,
 )
 from fusioncenter.figures.dey2009.distribution import (
     checks_distribution,
+    SETTABLE_DIST,
     compute_distribution,
     plot_distribution,
 )
@@ -107,6 +109,8 @@ __all__ = [
     "DIST_PATHS",
     "DIST",
     "SETTABLE_PATHS",
+    "SETTABLE_VECTOR",
+    "SETTABLE_DIST",
     "compute_fig1",
     "compute_fig2",
     "plot_fig1",

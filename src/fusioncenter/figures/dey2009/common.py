@@ -181,7 +181,7 @@ def dominance_claim(name: str, mean, se, bound) -> Claim:
                  f"{float(np.min(gap)):.4f}")
 
 
-def stationary_claim(name: str, diff, diff_se) -> Claim:
+def stationary_claim(name: str, diff, diff_se, paper_specific: bool = False) -> Claim:
     """The claim "the window averages of :func:`window_stats` agree within :data:`Z_TOL` s.e.".
 
     Parameters
@@ -190,6 +190,9 @@ def stationary_claim(name: str, diff, diff_se) -> Claim:
         The claim's text.
     diff, diff_se : array_like
         Window differences and their standard errors.
+    paper_specific : bool
+        Whether the claim is about the entry's own setting (see
+        :class:`fusioncenter.figures.registry.Claim`).
 
     Returns
     -------
@@ -198,7 +201,8 @@ def stationary_claim(name: str, diff, diff_se) -> Claim:
     """
     z = np.asarray(diff) / np.asarray(diff_se)
     return Claim(name, bool(np.all(np.abs(z) < Z_TOL)),
-                 f"window differences z = {', '.join(f'{x:.2f}' for x in np.ravel(z))}")
+                 f"window differences z = {', '.join(f'{x:.2f}' for x in np.ravel(z))}",
+                 paper_specific=paper_specific)
 
 
 def converged_claim(name: str, seqs: dict, limits: dict) -> Claim:

@@ -9,6 +9,8 @@ import scipy.integrate
 import scipy.stats
 
 from fusioncenter import fading, plotting, riccati
+from fusioncenter.context import Parameter
+from fusioncenter.figures.common import settings
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_DIST,
@@ -27,10 +29,18 @@ from fusioncenter.figures.dey2009.common import (
     scalar_channel,
 )
 from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.profile import by_profile
+
+#: The overridable parameters of ``dey2009-distribution``.
+SETTABLE_DIST = (
+    Parameter("paths", "int", "Monte Carlo paths per fading law", dict(DIST_PATHS), minimum=4),
+    Parameter("alt_paths", "int", "paths per law from the alternative p_0", dict(GRID_PATHS),
+              minimum=2),
+    Parameter("sigma_v", "float", "measurement-noise standard deviation", DIST["sigma_v"],
+              minimum=1e-6, model=True),
+)
 
 
-def compute_distribution(profile: str, seed: int) -> dict:
+def compute_distribution(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws.
 
     Parameters
@@ -39,6 +49,8 @@ def compute_distribution(profile: str, seed: int) -> dict:
         ``"fast"`` or ``"paper"``: the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).
     seed : int
         Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of :data:`SETTABLE_DIST`.
 
     Returns
     -------
@@ -53,9 +65,9 @@ def compute_distribution(profile: str, seed: int) -> dict:
         the survival functions ``L_sf`` (40,) on the grid ``sf_x``.
     """
     s = SCALAR
-    sv2 = DIST["sigma_v"] ** 2
-    n = by_profile(profile, **DIST_PATHS)
-    ng = by_profile(profile, **GRID_PATHS)
+    v = settings("dey2009-distribution", SETTABLE_DIST, profile, over)
+    sv2 = v["sigma_v"] ** 2
+    n, ng = v["paths"], v["alt_paths"]
     levels = np.array(DIST["quantiles"])
     low = riccati.scalar_sequence(P0, s["a"], s["sigma_w2"], 1.0, sv2, STEPS)
     bins = np.geomspace(10.0, 2e4, 61)
@@ -97,6 +109,8 @@ def compute_distribution(profile: str, seed: int) -> dict:
     out["sf_x"] = xs
     for kind, final in finals.items():
         out[f"{kind}_sf"] = (final[None, :] > xs[:, None]).mean(axis=1)
+    if "sigma_v" in over:
+        out["sigma_v"] = v["sigma_v"]
     return out
 
 
@@ -145,7 +159,8 @@ def plot_distribution(data: dict):
                 ylabel=r"$P(p_{100} > x)$ (dimensionless)", title="upper tail")
     plain_log_ticks(axes[2].xaxis)
     axes[2].legend()
-    return plotting.finish(fig, title=rf"Distribution of $p_k$: $\sigma_v = {DIST['sigma_v']:g}$,"
+    sigma_v = data.get("sigma_v", DIST["sigma_v"])
+    return plotting.finish(fig, title=rf"Distribution of $p_k$: $\sigma_v = {sigma_v:g}$,"
                            rf" $\lambda = {SCALAR['lam']:g}$, $E[p_0] = {data['p0']:g}$")
 
 
@@ -184,7 +199,7 @@ def checks_distribution(data: dict) -> list[Claim]:
     claims.append(Claim("right-skewed: P(p_100 > E[p_100]) < 1/2 by more than 4 binomial s.e.",
                         bool(min(za) > Z_TOL),
                         f"{data['rayleigh_above_mean']:.3f}, {data['nakagami_above_mean']:.3f} "
-                        f"(z = {za[0]:.1f}, {za[1]:.1f})"))
+                        f"(z = {za[0]:.1f}, {za[1]:.1f})", paper_specific=True))
 
     def two_prop(p1, p2):
         se = np.sqrt(p1 * (1 - p1) / n + p2 * (1 - p2) / n)
@@ -197,7 +212,8 @@ def checks_distribution(data: dict) -> list[Claim]:
         bool(z_lo > Z_TOL and z_hi > Z_TOL),
         f"P(p <= {data['x_lo']:.1f}): {data['nakagami_cdf_lo']:.3f} vs "
         f"{data['rayleigh_cdf_lo']:.3f} (z = {z_lo:.1f}); P(p > {data['x_hi']:.1f}): "
-        f"{data['nakagami_sf_hi']:.3f} vs {data['rayleigh_sf_hi']:.3f} (z = {z_hi:.1f})"))
+        f"{data['nakagami_sf_hi']:.3f} vs {data['rayleigh_sf_hi']:.3f} (z = {z_hi:.1f})",
+        paper_specific=True))
     zm = max_finite(np.concatenate([
         excess_z(data[f"{k}_mean"][1:], data[f"{k}_stderr"][1:], data[f"{k}_s"][1:])
         for k in ("rayleigh", "nakagami")]))
@@ -219,6 +235,7 @@ register(Entry(
                 "quantiles": list(DIST["quantiles"]), "steps": STEPS, "paths": DIST_PATHS,
                 "alt_paths": GRID_PATHS, "block_size": BLOCK, "ks_level": KS_LEVEL},
     compute=compute_distribution,
+    settable=SETTABLE_DIST,
     plot=plot_distribution,
     checks=checks_distribution,
     status="reproduced",

@@ -15,17 +15,18 @@ from fusioncenter.figures.dey2009.common import (
     ORDERING,
     P0,
     PATHS,
+    SETTABLE_PATHS,
     STEPS,
     Z_TOL,
     dominance_claim,
     excess_z,
     max_finite,
+    mc_paths,
 )
 from fusioncenter.figures.registry import Claim, Entry, register
-from fusioncenter.profile import by_profile
 
 
-def compute_ordering(profile: str, seed: int) -> dict:
+def compute_ordering(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-ordering``: the multi-access bound with and without ordering (22).
 
     Parameters
@@ -34,6 +35,8 @@ def compute_ordering(profile: str, seed: int) -> dict:
         ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
     seed : int
         Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    **over
+        Overrides of :data:`SETTABLE_PATHS` (``grid_paths``: the paths of the sweep).
 
     Returns
     -------
@@ -47,8 +50,7 @@ def compute_ordering(profile: str, seed: int) -> dict:
         ``sweep_`` with one row per lambda_2 (7, 101), without the sensor-alone run.
     """
     m = MULTI
-    n = by_profile(profile, **PATHS)
-    ng = by_profile(profile, **GRID_PATHS)
+    n, ng = mc_paths(profile, over)
     lam1 = ORDERING["lam1"]
     lam2s = np.array(ORDERING["lam2"])
     common = (m["a"], m["c"], m["sigma_v2"], m["sigma_n2"])
@@ -196,6 +198,7 @@ register(Entry(
                 "E[p_0]": P0, "steps": STEPS, "paths": PATHS, "sweep_paths": GRID_PATHS,
                 "block_size": BLOCK},
     compute=compute_ordering,
+    settable=SETTABLE_PATHS,
     plot=plot_ordering,
     checks=checks_ordering,
     status="reproduced",

@@ -7,18 +7,39 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import plotting, power
+from fusioncenter.figures.common import settings
 from fusioncenter.figures.leong2011.common import (
     CH_ASYMPTOTICS,
     FIG1,
     FIG2,
+    SETTABLE_FIG1,
+    SETTABLE_FIG2,
 )
 from fusioncenter.figures.registry import Claim, Entry, register
 
 
-def compute_fig1(profile: str, seed: int) -> dict:
-    """Deterministic: profile and seed do not matter."""
-    p = FIG1
-    M = np.arange(p["M"][0], p["M"][1] + 1)
+def compute_fig1(profile: str, seed: int, **over) -> dict:
+    """Data of ``leong2011-fig1`` (deterministic: profile and seed do not matter).
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"`` (unused).
+    seed : int
+        Unused.
+    **over
+        Overrides of :data:`SETTABLE_FIG1` (the model of :data:`FIG1` and ``M_max``).
+
+    Returns
+    -------
+    dict
+        ``M`` (M_max,) the numbers of sensors, ``S`` and ``P_inf`` the SNR and the steady state
+        (8) at each, ``P_iterated`` the fixed point of (4) by iteration, ``sigma_w2``, the
+        limit and constant ``limit``, ``K`` of (13) and ``asymptotic`` (M_max,) ``limit + K/M``.
+    """
+    v = settings("leong2011-fig1", SETTABLE_FIG1, profile, over)
+    p = {**FIG1, **{k: x for k, x in v.items() if k != "M_max"}}
+    M = np.arange(p["M"][0], v["M_max"] + 1)
     alpha = 1 / np.sqrt(M)
     # symmetric case: S = M h^2 c^2 / (h^2 sigma_v2 + sigma_n2) (alpha = 1/sqrt(M))
     S = np.array([power.snr("multi-access", np.full(m, al), np.full(m, p["h"]),
@@ -75,24 +96,41 @@ def checks_fig1(data: dict) -> list[Claim]:
               f"K = {K:.4f}; M (P - sw) = {scaled[0]:.4f} (M=1), {scaled[-1]:.4f} (M=100); "
               f"M^2 |P - sw - K/M| in [{tail.min():.4f}, {tail.max():.4f}] for M >= 50"),
         Claim("the asymptotic expression is accurate at 20 sensors (relative error < 1 %)",
-              rel20 < 0.01, f"relative error at M = 20: {rel20:.2e}"),
+              rel20 < 0.01, f"relative error at M = 20: {rel20:.2e}", paper_specific=True),
     ]
 
 
-def _fig2_sensors(seed: int):
+def _fig2_sensors(seed: int, n: int):
     p = FIG2
     rng = np.random.default_rng(seed)
-    n = p["M"][1]
     c = rng.uniform(*p["c_range"], n)
     sv = rng.uniform(*p["sigma_v2_range"], n)
     h = rng.uniform(*p["h_range"], n)
     return h, c, sv
 
 
-def compute_fig2(profile: str, seed: int) -> dict:
-    """One seeded draw of the sensors; the profile does not matter."""
-    p = FIG2
-    h, c, sv = _fig2_sensors(seed)
+def compute_fig2(profile: str, seed: int, **over) -> dict:
+    """Data of ``leong2011-fig2``: one seeded draw of the sensors; the profile does not matter.
+
+    Parameters
+    ----------
+    profile : str
+        ``"fast"`` or ``"paper"`` (unused).
+    seed : int
+        Seed of the draw of the sensor parameters.
+    **over
+        Overrides of :data:`SETTABLE_FIG2` (``a``, ``sigma_w2``, ``sigma_n2`` and ``M_max``).
+
+    Returns
+    -------
+    dict
+        ``M`` the numbers of sensors, ``P_inf`` the steady state with the first ``M`` sensors,
+        ``lower``, ``upper`` the bounds (37) and ``exact_lower``, ``exact_upper`` the exact
+        bounds, ``sigma_w2``, the drawn ``h``, ``c``, ``sigma_v2`` (M_max,) and ``seed``.
+    """
+    v = settings("leong2011-fig2", SETTABLE_FIG2, profile, over)
+    p = {**FIG2, **{k: x for k, x in v.items() if k != "M_max"}, "M": [FIG2["M"][0], v["M_max"]]}
+    h, c, sv = _fig2_sensors(seed, v["M_max"])
     M = np.arange(p["M"][0], p["M"][1] + 1)
     S = np.array([power.snr("multi-access", np.full(m, 1 / np.sqrt(m)), h[:m], c[:m], sv[:m],
                             p["sigma_n2"]) for m in M])
@@ -146,7 +184,8 @@ def checks_fig2(data: dict) -> list[Claim]:
     return [
         Claim("P_inf lies between the bounds (37) at every M >= 2 (asymptotic bounds)",
               bool(np.all(within)),
-              f"{int(np.sum(~within))} of {int(np.sum(big))} values of M outside"),
+              f"{int(np.sum(~within))} of {int(np.sum(big))} values of M outside",
+              paper_specific=True),
         Claim("P_inf lies between the exact bounds (steady state at the extreme SNRs)",
               bool(np.all(exact)), f"{int(np.sum(~exact))} outside"),
         Claim("both bounds converge to sigma_w2 at rate 1/M: M (bound - sigma_w2) is constant",
@@ -155,7 +194,8 @@ def checks_fig2(data: dict) -> list[Claim]:
         Claim("P_inf - sigma_w2 = O(1/M): M (P_inf - sigma_w2) stays between the bounds' "
               "constants (M >= 2)",
               bool(np.all(((M * (P - sw) >= lo_c) & (M * (P - sw) <= hi_c))[big])),
-              f"M (P - sw) in [{np.min(M * (P - sw)):.4f}, {np.max(M * (P - sw)):.4f}]"),
+              f"M (P - sw) in [{np.min(M * (P - sw)):.4f}, {np.max(M * (P - sw)):.4f}]",
+              paper_specific=True),
     ]
 
 
@@ -165,7 +205,8 @@ register(Entry(
     "P_inf against M and the asymptotic expression sigma_w2 + K/M of (13); (b) P_inf - sigma_w2 "
     "against K/M (log-log).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig1", parameters=FIG1,
-    compute=compute_fig1, plot=plot_fig1, checks=checks_fig1, status="reproduced",
+    compute=compute_fig1, settable=SETTABLE_FIG1, plot=plot_fig1, checks=checks_fig1,
+    status="reproduced",
     note="Deterministic. The range M = 1..100 is our choice (not stated). As the paper says, "
     "the 1/M expression is accurate from 20-30 sensors on.",
 ))
@@ -176,7 +217,8 @@ register(Entry(
     "alpha_i = 1/sqrt(M): P_inf against M between the asymptotic lower and upper bounds (37) "
     "of Lemma 4 (and the exact bounds at the extreme SNRs).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig2", parameters=FIG2,
-    compute=compute_fig2, plot=plot_fig2, checks=checks_fig2, status="reproduced",
+    compute=compute_fig2, settable=SETTABLE_FIG2, plot=plot_fig2, checks=checks_fig2,
+    status="reproduced",
     note="One seeded draw (uniform on the ranges, which the paper does not specify). The "
     "paper's notation C_i, R_i in this passage stands for c_i, sigma_i^2. P_inf lies between "
     "the bounds, as in the paper; (37) drops O(1/M^2) terms, so we check it from M = 2 on (at "

@@ -103,3 +103,30 @@ SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per poi
                              dict(FADING["realizations"]), minimum=2),
                    Parameter("steps", "int", "fading steps per realization",
                              dict(FADING["steps"]), minimum=2))
+
+
+def _model(name: str, doc: str, default: float, minimum: float = 1e-9) -> Parameter:
+    return Parameter(name, "float", doc, default, minimum=minimum, model=True)
+
+
+#: The overridable parameters of Fig. 1: its symmetric model, and the largest M (our choice).
+SETTABLE_FIG1 = (
+    Parameter("a", "float", "state transition", FIG1["a"], minimum=-0.99, maximum=0.99,
+              model=True),
+    _model("sigma_w2", "process-noise variance", FIG1["sigma_w2"]),
+    _model("sigma_n2", "channel-noise variance at the fusion centre", FIG1["sigma_n2"]),
+    _model("c", "measurement gain of every sensor", FIG1["c"]),
+    _model("sigma_v2", "measurement-noise variance of every sensor", FIG1["sigma_v2"]),
+    _model("h", "channel gain of every sensor", FIG1["h"]),
+    Parameter("M_max", "int", "largest number of sensors (M = 1..M_max)", FIG1["M"][1],
+              minimum=50, maximum=10_000),
+)
+#: The overridable parameters of Fig. 2: its model (the sensor ranges are fixed), the largest M.
+SETTABLE_FIG2 = (
+    Parameter("a", "float", "state transition", FIG2["a"], minimum=-0.99, maximum=0.99,
+              model=True),
+    _model("sigma_w2", "process-noise variance", FIG2["sigma_w2"]),
+    _model("sigma_n2", "channel-noise variance at the fusion centre", FIG2["sigma_n2"]),
+    Parameter("M_max", "int", "largest number of sensors (one draw of M_max sensors)",
+              FIG2["M"][1], minimum=5, maximum=10_000),
+)
