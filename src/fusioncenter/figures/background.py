@@ -8,8 +8,8 @@ import numpy as np
 
 from fusioncenter import montecarlo, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import settings, trials_parameter
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.kalman import constant_velocity
 
 CHAPTER = "book/background/kalman-riccati"
@@ -48,8 +48,8 @@ def vector_model(q: float | None = None, r: float | None = None):
     Parameters
     ----------
     q, r : float, optional
-        The process-noise intensity and the measurement-noise variance (default: those of
-        :data:`VECTOR`).
+        Override the noise levels of :data:`VECTOR` (``q`` of the process, ``r`` of the
+        position measurement).
 
     Returns
     -------
@@ -214,22 +214,18 @@ def checks_riccati(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="background-riccati",
     paper="book",
-    kind="figure",
     caption="The Riccati recursion converging to its steady state: a scalar unstable system "
     "(closed-form root) and a constant-velocity model (checked against filterpy and scipy's DARE).",
     chapter=CHAPTER,
     label="sec-background-riccati-figure",
     parameters={"scalar": SCALAR, "vector": VECTOR},
-    compute=compute_riccati,
+    functions=(compute_riccati, plot_riccati, checks_riccati),
     settable=SETTABLE_RICCATI,
-    plot=plot_riccati,
-    checks=checks_riccati,
-    status="reproduced",
     note="Our own figure; deterministic (no Monte Carlo).",
-))
+)
 
 
 # ------------------------------------------------------------------ Monte Carlo vs Riccati
@@ -293,7 +289,7 @@ def plot_mc(data: dict):
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_mc`.
+        The data of ``background-kf-montecarlo`` (:func:`compute_mc`).
 
     Returns
     -------
@@ -320,7 +316,7 @@ def checks_mc(data: dict) -> list[Claim]:
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_mc`.
+        What :func:`compute_mc` returns.
 
     Returns
     -------
@@ -342,19 +338,15 @@ def checks_mc(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="background-kf-montecarlo",
     paper="book",
-    kind="figure",
     caption="What the Riccati recursion predicts: the Monte Carlo mean squared error of the "
     "Kalman filter matches the diagonal of P_{k|k} at every step.",
     chapter=CHAPTER,
     label="sec-background-kf-montecarlo",
     parameters={"model": VECTOR, "trials": MC_TRIALS},
-    compute=compute_mc,
+    functions=(compute_mc, plot_mc, checks_mc),
     settable=SETTABLE_MC,
-    plot=plot_mc,
-    checks=checks_mc,
-    status="reproduced",
     note="Our own figure; agreement within the stated Monte Carlo error.",
-))
+)

@@ -3,15 +3,17 @@
 An entry declares the parameters its ``compute`` accepts as overrides in its ``settable`` tuple
 of :class:`fusioncenter.context.Parameter` (``--set key=value`` on the command line); the
 compute reads the value of each one in a run with :func:`settings`, so that the default of a
-parameter is written once, in its declaration.
+parameter is written once, in its declaration. :func:`register_figure` registers a reproduced
+figure from its fields and its three functions.
 """
 
 from __future__ import annotations
 
 from fusioncenter import context
 from fusioncenter.context import Parameter
+from fusioncenter.figures.registry import Entry, register
 
-__all__ = ["settings", "trials_parameter"]
+__all__ = ["register_figure", "settings", "trials_parameter"]
 
 
 def settings(entry_id: str, settable, profile: str, over: dict) -> dict:
@@ -66,3 +68,24 @@ def trials_parameter(default, doc: str = "Monte Carlo trials", name: str = "tria
     """
     return Parameter(name, "int", doc, dict(default) if isinstance(default, dict) else default,
                      minimum=minimum)
+
+
+def register_figure(*, functions: tuple, **fields) -> Entry:
+    """Register a reproduced figure: an entry with its compute, plot and checks.
+
+    Parameters
+    ----------
+    functions : tuple
+        ``(compute, plot, checks)`` of the entry.
+    **fields
+        The other fields of :class:`fusioncenter.figures.registry.Entry` (``id``, ``paper``,
+        ``caption``, ``chapter``, ``label``, ``parameters``, ``settable``, ``note``, ...).
+
+    Returns
+    -------
+    fusioncenter.figures.registry.Entry
+        The registered entry, with ``kind="figure"`` and ``status="reproduced"``.
+    """
+    compute, plot, checks = functions
+    return register(Entry(kind="figure", status="reproduced", compute=compute, plot=plot,
+                          checks=checks, **fields))

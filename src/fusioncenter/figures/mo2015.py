@@ -25,8 +25,8 @@ import numpy as np
 
 from fusioncenter import event, montecarlo, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import settings, trials_parameter
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
 
 #: The book's own figures that this module registers (the notes have no figures of their own).
@@ -353,10 +353,9 @@ def checks_rate(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-rate",
     paper="mo2015",
-    kind="figure",
     caption="Communication rate P(gamma_i = 1) against the trigger parameter delta for the three "
     "sensors of the static example: the notes' closed form (prior mean 0), our extension to a "
     "non-zero prior mean, and Monte Carlo estimates with 1.96 standard errors.",
@@ -364,14 +363,11 @@ register(Entry(
     label="sec-mo2015-rate-figure",
     parameters={"example": EXAMPLE, "delta_mc": [round(float(d), 6) for d in RATE_DELTAS],
                 "trials": RATE_TRIALS},
-    compute=compute_rate,
+    functions=(compute_rate, plot_rate, checks_rate),
     settable=SETTABLE_RATE,
-    plot=plot_rate,
-    checks=checks_rate,
-    status="reproduced",
     note="Our own figure (the notes have none); closed form and simulation agree within the "
     "stated Monte Carlo error.",
-))
+)
 
 
 # -------------------------------------------------------------------------- mo2015-tradeoff
@@ -500,10 +496,9 @@ def checks_tradeoff(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-tradeoff",
     paper="mo2015",
-    kind="figure",
     caption="Mean squared error against communication rate for a 2-state, 3-sensor static "
     "example: the stochastic trigger with the closed-form MMSE estimator, random selection at "
     "the same per-sensor rate, and all-send; exact curves and Monte Carlo points.",
@@ -512,14 +507,11 @@ register(Entry(
     parameters={"example": EXAMPLE, "rates": [float(x) for x in TRADEOFF_RATES],
                 "trials": TRADEOFF_TRIALS,
                 "delta": "per sensor, delta_for_rate(rate, s_i, a_i xbar)"},
-    compute=compute_tradeoff,
+    functions=(compute_tradeoff, plot_tradeoff, checks_tradeoff),
     settable=SETTABLE_TRADEOFF,
-    plot=plot_tradeoff,
-    checks=checks_tradeoff,
-    status="reproduced",
     note="Our own figure (the notes have none); simulation matches the exact curves within the "
     "stated Monte Carlo error.",
-))
+)
 
 
 # -------------------------------------------------------------------------- mo2015-tracking
@@ -671,10 +663,9 @@ def checks_tracking(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-tracking",
     paper="mo2015",
-    kind="figure",
     caption="The event-triggered Kalman filter (stochastic trigger on the innovation, exact "
     "MMSE filter) on the tracking model of zheng2014 Section VII.A with N = 2 sensors: "
     "position and velocity RMSE against average transmissions per step, against random "
@@ -683,11 +674,8 @@ register(Entry(
     label="sec-mo2015-tracking",
     parameters={**TRACKING, "trials": TRACKING_TRIALS, "calibration_trials": CALIBRATION_TRIALS,
                 "delta": "calibrate_delta on the same 20-step horizon (burn_in = 0)"},
-    compute=compute_tracking,
+    functions=(compute_tracking, plot_tracking, checks_tracking),
     settable=SETTABLE_TRACKING,
-    plot=plot_tracking,
-    checks=checks_tracking,
-    status="reproduced",
     note="Our own figure (the notes stop at one-shot estimation); the filter's covariance "
     "matches its Monte Carlo error within the stated tolerance.",
-))
+)

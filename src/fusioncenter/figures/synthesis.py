@@ -26,8 +26,8 @@ import time
 import numpy as np
 
 from fusioncenter import censoring, event, plotting, synthesis
-from fusioncenter.figures.common import settings, trials_parameter
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
 from fusioncenter.profile import by_profile
 
@@ -270,10 +270,9 @@ def checks_frontier(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-frontier",
     paper="book",
-    kind="figure",
     caption="The accuracy-communication frontier of one tracking problem (zheng2014 Section "
     "VII.A, two sensors): position and velocity RMSE against measured transmissions per step "
     "for mo2015's stochastic trigger with its exact Kalman filter, zheng2014's NIS censoring "
@@ -284,16 +283,13 @@ register(Entry(
                 "trials": TRIALS, "particles": PARTICLES, "calibration_trials":
                 CALIBRATION_TRIALS, "delta": "one per rate, shared by both sensors, "
                 "calibrate_delta on t = 1..20"},
-    compute=compute_frontier,
+    functions=(compute_frontier, plot_frontier, checks_frontier),
     settable=SETTABLE_FRONTIER,
     # the particle filters have no covariance: their "trace" is NaN by definition
     nonfinite_ok=("cfomd_trace", "cfwmd_trace", "allsend_pf_trace"),
-    plot=plot_frontier,
-    checks=checks_frontier,
-    status="reproduced",
     note="Our own figure (no paper compares these schemes); every ordering is checked with "
     "paired z-scores at measured, matched budgets.",
-))
+)
 
 
 # ------------------------------------------------------------------------------ synthesis-cost
@@ -406,10 +402,9 @@ def checks_cost(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-cost",
     paper="book",
-    kind="figure",
     caption="Computational cost per step of the Kalman filter (mo2015's trigger, random "
     "selection, all-send) and of zheng2014's particle filter: an operation-count model, measured "
     "wall time, and the all-send particle filter's excess RMSE over the exact Kalman filter as "
@@ -417,14 +412,11 @@ register(Entry(
     chapter=CHAPTER,
     label="sec-synthesis-cost",
     parameters={**PROBLEM, "particles": COST_PARTICLES, "trials": COST_TRIALS},
-    compute=compute_cost,
+    functions=(compute_cost, plot_cost, checks_cost),
     settable=SETTABLE_COST,
-    plot=plot_cost,
-    checks=checks_cost,
-    status="reproduced",
     note="Our own figure; the cost claim uses the operation-count model (deterministic), the "
     "measured times are shown for orientation only.",
-))
+)
 
 
 # --------------------------------------------------------------------------- synthesis-fading
@@ -622,10 +614,9 @@ def checks_fading(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-fading",
     paper="book",
-    kind="figure",
     caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; a "
     "packet is lost when the power gain is below a threshold): position RMSE and packets sent "
     "against the outage probability, with a receiver that knows the channel gains and a naive "
@@ -637,13 +628,10 @@ register(Entry(
                 "Rayleigh, mean power gain 1, independent per sensor and step",
                 "trials": TRIALS, "particles": PARTICLES,
                 "energy_iterations": ENERGY_ITERATIONS},
-    compute=compute_fading,
+    functions=(compute_fading, plot_fading, checks_fading),
     settable=SETTABLE_FADING,
     # the particle filters have no covariance: their "trace" is NaN by definition
     nonfinite_ok=("cfomd_trace", "cfwmd_csi_trace", "cfwmd_naive_trace"),
-    plot=plot_fading,
-    checks=checks_fading,
-    status="reproduced",
     note="Our own figure (the papers do not combine these models); every claim is checked "
     "with paired z-scores.",
-))
+)

@@ -10,7 +10,7 @@ import scipy.stats
 
 from fusioncenter import fading, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import settings
+from fusioncenter.figures.common import register_figure, settings
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_DIST,
@@ -28,7 +28,7 @@ from fusioncenter.figures.dey2009.common import (
     plain_log_ticks,
     scalar_channel,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 #: The overridable parameters of ``dey2009-distribution``.
 SETTABLE_DIST = (
@@ -222,10 +222,9 @@ def checks_distribution(data: dict) -> list[Claim]:
     return claims
 
 
-register(Entry(
+register_figure(
     id="dey2009-distribution",
     paper="dey2009",
-    kind="figure",
     caption="Beyond the mean: the distribution of p_k over time (quantile bands) and at steady "
     "state (density of log p and upper tail) for Rayleigh and Nakagami(1/2) fading, Fig. 1's "
     "channel with sigma_v = 1.",
@@ -234,11 +233,8 @@ register(Entry(
     parameters={**SCALAR, "sigma_v": DIST["sigma_v"], "E[p_0]": P0, "p0_alt": DIST["p0_alt"],
                 "quantiles": list(DIST["quantiles"]), "steps": STEPS, "paths": DIST_PATHS,
                 "alt_paths": GRID_PATHS, "block_size": BLOCK, "ks_level": KS_LEVEL},
-    compute=compute_distribution,
+    functions=(compute_distribution, plot_distribution, checks_distribution),
     settable=SETTABLE_DIST,
-    plot=plot_distribution,
-    checks=checks_distribution,
-    status="reproduced",
     note="Our own figure: the paper leaves the distribution of the error covariance as future "
     "work.",
-))
+)

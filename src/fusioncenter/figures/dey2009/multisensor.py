@@ -9,6 +9,7 @@ import itertools
 import numpy as np
 
 from fusioncenter import fading, plotting
+from fusioncenter.figures.common import register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_MULTI,
@@ -28,7 +29,7 @@ from fusioncenter.figures.dey2009.common import (
     plain_log_ticks,
     stationary_claim,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 
 def _multi_runs(access: str, lam_pairs, n: int, seed: int, keep_window: bool) -> dict:
@@ -57,12 +58,9 @@ def compute_fig3(profile: str, seed: int, **over) -> dict:
 
     Parameters
     ----------
-    profile : str
-        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
-    seed : int
-        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
-    **over
-        Overrides of the entry's settable parameters (see ``Entry.settable``).
+    profile, seed, **over
+        The profile (it sets the paths, :data:`PATHS` and :data:`GRID_PATHS`), the seed of
+        the first run (the others add an offset) and the overrides of :data:`SETTABLE_PATHS`.
 
     Returns
     -------
@@ -99,7 +97,7 @@ def plot_multi(data: dict):
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_fig3` or :func:`compute_fig4`.
+        Fig. 3's or Fig. 4's data (:func:`compute_fig3`, :func:`compute_fig4`).
 
     Returns
     -------
@@ -191,43 +189,22 @@ _MULTI_PARAMS = {
                                 grid="every (lambda_1, lambda_2) in {0.1, 1, 10, 100}^2"),
 }
 
-register(Entry(
-    id="dey2009-fig3",
-    paper="dey2009",
-    kind="figure",
-    caption="Two sensors, multi-access (coherent sum) channel: E[p_k] by Monte Carlo against "
-    "the worst-sensor bound s_k and the AM-HM bound t_k for three (lambda_1, lambda_2); last "
-    "panel: which bound is tighter over a grid of alternatives.",
-    chapter=CH_MULTI,
-    label="sec-dey2009-fig3",
-    parameters=_MULTI_PARAMS,
-    compute=compute_fig3,
-    settable=SETTABLE_PATHS,
-    plot=plot_multi,
-    checks=checks_multi,
-    status="reproduced",
-    note="Both bounds dominate E[p_k] and converge; sometimes s, sometimes t is tighter, as the "
-    "paper says. lambda_1, lambda_2 are our choice (not stated) and the conclusions hold on a "
-    "4 x 4 grid of alternatives.",
-))
-
-register(Entry(
-    id="dey2009-fig4",
-    paper="dey2009",
-    kind="figure",
-    caption="Two sensors, orthogonal channels: E[p_k] by Monte Carlo against s_k (minimum over "
-    "which sensor is integrated last) and the AM-HM bound t_k (26) for three (lambda_1, "
-    "lambda_2); last panel: which bound is tighter over a grid of alternatives.",
-    chapter=CH_MULTI,
-    label="sec-dey2009-fig4",
-    parameters=_MULTI_PARAMS,
-    compute=compute_fig4,
-    settable=SETTABLE_PATHS,
-    plot=plot_multi,
-    checks=checks_multi,
-    status="reproduced",
-    note="Both bounds dominate E[p_k] and converge; each is tighter in some setting, as the "
-    "paper says. lambda_1, lambda_2 are our choice (not stated) and the conclusions hold on a "
-    "4 x 4 grid of alternatives.",
-))
-
+#: The captions and notes of Figs. 3 and 4: one template, the scheme filled in.
+_MULTI_TEXT = (
+    "Two sensors, {channel}: E[p_k] by Monte Carlo against {s} and the AM-HM bound t_k{eq} for "
+    "three (lambda_1, lambda_2); last panel: which bound is tighter over a grid of alternatives.",
+    "Both bounds dominate E[p_k] and converge; {which}, as the paper says. lambda_1, lambda_2 "
+    "are our choice (not stated) and the conclusions hold on a 4 x 4 grid of alternatives.",
+)
+for _fig, _compute, _text in (
+        ("3", compute_fig3, {"channel": "multi-access (coherent sum) channel", "eq": "",
+                             "s": "the worst-sensor bound s_k",
+                             "which": "sometimes s, sometimes t is tighter"}),
+        ("4", compute_fig4, {"channel": "orthogonal channels", "eq": " (26)",
+                             "s": "s_k (minimum over which sensor is integrated last)",
+                             "which": "each is tighter in some setting"})):
+    register_figure(id=f"dey2009-fig{_fig}", paper="dey2009",
+                    caption=_MULTI_TEXT[0].format(**_text), chapter=CH_MULTI,
+                    label=f"sec-dey2009-fig{_fig}", parameters=_MULTI_PARAMS,
+                    functions=(_compute, plot_multi, checks_multi), settable=SETTABLE_PATHS,
+                    note=_MULTI_TEXT[1].format(**_text))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import fading, plotting
+from fusioncenter.figures.common import register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_MULTI,
@@ -23,7 +24,7 @@ from fusioncenter.figures.dey2009.common import (
     max_finite,
     mc_paths,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 
 def compute_ordering(profile: str, seed: int, **over) -> dict:
@@ -31,10 +32,9 @@ def compute_ordering(profile: str, seed: int, **over) -> dict:
 
     Parameters
     ----------
-    profile : str
-        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
-    seed : int
-        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
+    profile, seed
+        The profile fixes the paths (:data:`PATHS` at the main setting, :data:`GRID_PATHS` per
+        point of the sweep); the seed is that of the main runs (the sweep adds offsets).
     **over
         Overrides of :data:`SETTABLE_PATHS` (``grid_paths``: the paths of the sweep).
 
@@ -101,7 +101,7 @@ def plot_ordering(data: dict):
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_ordering`.
+        What :func:`compute_ordering` returns.
 
     Returns
     -------
@@ -185,10 +185,9 @@ def checks_ordering(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="dey2009-ordering",
     paper="dey2009",
-    kind="figure",
     caption="Ordering (22) matters on the multi-access channel: with the best sensor integrated "
     "last, the 'bound' falls below E[p_k] (adding the noisier sensor to a coherent sum hurts), "
     "while the same sequence is a valid bound for orthogonal channels.",
@@ -197,11 +196,8 @@ register(Entry(
     parameters={**MULTI, "ordering": {**ORDERING, "lam2": list(ORDERING["lam2"])},
                 "E[p_0]": P0, "steps": STEPS, "paths": PATHS, "sweep_paths": GRID_PATHS,
                 "block_size": BLOCK},
-    compute=compute_ordering,
+    functions=(compute_ordering, plot_ordering, checks_ordering),
     settable=SETTABLE_PATHS,
-    plot=plot_ordering,
-    checks=checks_ordering,
-    status="reproduced",
     note="Our own figure (the paper states (22) but does not show its violation).",
-))
+)
 

@@ -9,6 +9,7 @@ import itertools
 import numpy as np
 
 from fusioncenter import fading, plotting
+from fusioncenter.figures.common import register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_SCALAR,
@@ -33,7 +34,7 @@ from fusioncenter.figures.dey2009.common import (
     scalar_channel,
     stationary_claim,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 
 def _scalar_runs(kind: str, sigma_vs, p0s, n: int, seed: int, keep_window: bool) -> dict:
@@ -250,30 +251,25 @@ _SCALAR_PARAMS = {
                                 grid="sigma_v in {0.1, 2, 20} x E[p_0] in {0, 1000}"),
 }
 
-register(Entry(
+register_figure(
     id="dey2009-fig1",
     paper="dey2009",
-    kind="figure",
     caption="Rayleigh fading, one sensor: the Monte Carlo average error covariance E[p_k] "
     "(50 000 paths of length 100) against the tight bound s_k (17) and the loose bound q_k (18), "
     "for several sigma_v; below: the same ordering on a grid of alternative parameters.",
     chapter=CH_SCALAR,
     label="sec-dey2009-fig1",
     parameters=_SCALAR_PARAMS,
-    compute=compute_fig1,
+    functions=(compute_fig1, plot_fig1, _checks_scalar),
     settable=SETTABLE_PATHS,
-    plot=plot_fig1,
-    checks=_checks_scalar,
-    status="reproduced",
     note="E[p_k] <= s_k <= q_k at every k and all three converge, as the paper describes; "
     "sigma_v in {1, 5, 10} and E[p_0] = 1 are our choice (not stated in the paper) and the "
     "conclusions hold on a grid of alternatives.",
-))
+)
 
-register(Entry(
+register_figure(
     id="dey2009-fig2",
     paper="dey2009",
-    kind="figure",
     caption="Nakagami(1/2) fading, one sensor: E[p_k] by Monte Carlo against the bounds (19) "
     "and (20), with Fig. 1's Rayleigh averages for comparison; below: alternative parameters.",
     chapter=CH_SCALAR,
@@ -281,14 +277,11 @@ register(Entry(
     parameters={**_SCALAR_PARAMS, "m": 0.5,
                 "eq20": "denominator sqrt(s2 l/2) + sqrt(s2 l/2 + 4/pi (q + s_v^2)) as derived; "
                 "the printed nested root is kept in the data as q_as_printed (see errata)"},
-    compute=compute_fig2,
+    functions=(compute_fig2, plot_fig2, _checks_scalar),
     settable=SETTABLE_PATHS,
-    plot=plot_fig2,
-    checks=_checks_scalar,
-    status="reproduced",
     note="E[p_k] <= s~_k <= q~_k, convergence, and worse than Rayleigh (mean and tight bound), "
     "as described; the loose bound (20) is used with its denominator as derived (the printed "
     "(20) has a nested square root, see the errata); the Nakagami loose bound is not above "
     "Rayleigh's for large sigma_v, consistent with the paper's 'generally worse'.",
-))
+)
 

@@ -12,7 +12,7 @@ import scipy.stats
 
 from fusioncenter import fading, plotting
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import settings
+from fusioncenter.figures.common import register_figure, settings
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_VECTOR,
@@ -26,7 +26,7 @@ from fusioncenter.figures.dey2009.common import (
     stationary_claim,
     window_stats,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 #: The overridable parameters of ``dey2009-vector``.
 SETTABLE_VECTOR = (
@@ -186,10 +186,9 @@ def checks_vector(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="dey2009-vector",
     paper="dey2009",
-    kind="figure",
     caption="Vector state, scalar measurement (Section 3.2): the entries of E[P_k] by Monte "
     "Carlo against the bounding sequence Zbar_k for a 2-state example; below: the PSD order at "
     "steady state, direction by direction.",
@@ -198,12 +197,9 @@ register(Entry(
     parameters={**VECTOR, "steps": STEPS, "paths": PATHS, "directions": N_DIRECTIONS,
                 "block_size": BLOCK, "note": "Our own example: an unstable mode (1.25) driving "
                 "a stable one (0.9), only the first state measured."},
-    compute=compute_vector,
+    functions=(compute_vector, plot_vector, checks_vector),
     settable=SETTABLE_VECTOR,
-    plot=plot_vector,
-    checks=checks_vector,
-    status="reproduced",
     note="Our own figure (the paper has none for Section 3.2); E[P_k] <= Zbar_k in the PSD "
     "order within the stated Monte Carlo error.",
-))
+)
 

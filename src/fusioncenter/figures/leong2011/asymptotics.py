@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import plotting, power
-from fusioncenter.figures.common import settings
+from fusioncenter.figures.common import register_figure, settings
 from fusioncenter.figures.leong2011.common import (
     CH_ASYMPTOTICS,
     FIG1,
@@ -15,7 +15,7 @@ from fusioncenter.figures.leong2011.common import (
     SETTABLE_FIG1,
     SETTABLE_FIG2,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 
 
 def compute_fig1(profile: str, seed: int, **over) -> dict:
@@ -23,10 +23,8 @@ def compute_fig1(profile: str, seed: int, **over) -> dict:
 
     Parameters
     ----------
-    profile : str
-        ``"fast"`` or ``"paper"`` (unused).
-    seed : int
-        Unused.
+    profile, seed
+        Unused: the figure is deterministic.
     **over
         Overrides of :data:`SETTABLE_FIG1` (the model of :data:`FIG1` and ``M_max``).
 
@@ -114,10 +112,8 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
 
     Parameters
     ----------
-    profile : str
-        ``"fast"`` or ``"paper"`` (unused).
-    seed : int
-        Seed of the draw of the sensor parameters.
+    profile, seed
+        The profile is unused; the seed fixes the draw of the sensor parameters.
     **over
         Overrides of :data:`SETTABLE_FIG2` (``a``, ``sigma_w2``, ``sigma_n2`` and ``M_max``).
 
@@ -199,29 +195,27 @@ def checks_fig2(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
-    id="leong2011-fig1", paper="leong2011", kind="figure",
+register_figure(
+    id="leong2011-fig1", paper="leong2011",
     caption="Multi-access, symmetric sensors, alpha_i = 1/sqrt(M): (a) the steady-state error "
     "P_inf against M and the asymptotic expression sigma_w2 + K/M of (13); (b) P_inf - sigma_w2 "
     "against K/M (log-log).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig1", parameters=FIG1,
-    compute=compute_fig1, settable=SETTABLE_FIG1, plot=plot_fig1, checks=checks_fig1,
-    status="reproduced",
+    functions=(compute_fig1, plot_fig1, checks_fig1), settable=SETTABLE_FIG1,
     note="Deterministic. The range M = 1..100 is our choice (not stated). As the paper says, "
     "the 1/M expression is accurate from 20-30 sensors on.",
-))
+)
 
-register(Entry(
-    id="leong2011-fig2", paper="leong2011", kind="figure",
+register_figure(
+    id="leong2011-fig2", paper="leong2011",
     caption="Multi-access with general sensor parameters (c_i, sigma_i^2, h_i in [0.5, 1]), "
     "alpha_i = 1/sqrt(M): P_inf against M between the asymptotic lower and upper bounds (37) "
     "of Lemma 4 (and the exact bounds at the extreme SNRs).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig2", parameters=FIG2,
-    compute=compute_fig2, settable=SETTABLE_FIG2, plot=plot_fig2, checks=checks_fig2,
-    status="reproduced",
+    functions=(compute_fig2, plot_fig2, checks_fig2), settable=SETTABLE_FIG2,
     note="One seeded draw (uniform on the ranges, which the paper does not specify). The "
     "paper's notation C_i, R_i in this passage stands for c_i, sigma_i^2. P_inf lies between "
     "the bounds, as in the paper; (37) drops O(1/M^2) terms, so we check it from M = 2 on (at "
     "M = 1 about 16 % of draws fall below the lower one) and add exact bounds valid at all M.",
-))
+)
 

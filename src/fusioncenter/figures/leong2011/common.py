@@ -76,6 +76,24 @@ def xy(D, a, sw):
     return a**2 * D + sw - D, D * (D - sw)
 
 
+def draw_sensors(rng: np.random.Generator, n: int, M: int) -> tuple[np.ndarray, np.ndarray]:
+    """The random sensors of Figs. 3-6: ``sigma_v2 ~ chi2(1)``, distance ``d ~ U(20, 100)`` m.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The stream (``sigma_v2`` is drawn first, then ``d``).
+    n, M : int
+        Realizations and sensors per realization.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(sigma_v2, d)``, each ``(n, M)``.
+    """
+    return rng.chisquare(1, (n, M)), rng.uniform(20.0, 100.0, (n, M))
+
+
 def m_seed(seed: int, M: int, salt: int = 0) -> int:
     """The seed of one point (``M`` sensors) of a figure, derived from the entry's seed.
 

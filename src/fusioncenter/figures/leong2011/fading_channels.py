@@ -14,6 +14,7 @@ from fusioncenter.figures.leong2011.common import (
     FADING,
     SETTABLE_FADING,
     Z_TOL,
+    draw_sensors,
     m_seed,
     xy,
 )
@@ -22,8 +23,7 @@ from fusioncenter.profile import by_profile
 
 
 def _draw_fading(rng: np.random.Generator, n: int, M: int):
-    sv = rng.chisquare(1, (n, M))
-    d = rng.uniform(20.0, 100.0, (n, M))
+    sv, d = draw_sensors(rng, n, M)
     mu = rng.uniform(0.5, 1.0, (n, M))
     return sv, d, mu
 

@@ -14,6 +14,7 @@ from fusioncenter.figures.leong2011.common import (
     SETTABLE_STATIC,
     STATIC,
     Z_TOL,
+    draw_sensors,
     m_seed,
     xy,
 )
@@ -23,8 +24,7 @@ from fusioncenter.profile import by_profile
 
 def _draw_static(rng: np.random.Generator, n: int, M: int):
     """``(h, sigma_v2)`` for ``n`` realizations of ``M`` sensors (c_i = 1)."""
-    sv = rng.chisquare(1, (n, M))
-    d = rng.uniform(20.0, 100.0, (n, M))
+    sv, d = draw_sensors(rng, n, M)
     return d**-2.0, sv
 
 
