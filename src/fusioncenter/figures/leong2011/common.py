@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from fusioncenter.context import Parameter
+from fusioncenter.figures.registry import Entry, register
 
 #: Ids of the book's own figures registered here (not figures of the paper).
 OWN_IDS: tuple[str, ...] = ()
@@ -121,6 +124,40 @@ SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per poi
                              dict(FADING["realizations"]), minimum=2),
                    Parameter("steps", "int", "fading steps per realization",
                              dict(FADING["steps"]), minimum=2))
+
+
+def register_panels(figs: tuple[str, str], caption: str, what_b: str, functions: tuple,
+                    **fields) -> None:
+    """Register panels (a) and (b) of a multi-access and an orthogonal figure (Figs. 3-6).
+
+    Parameters
+    ----------
+    figs : tuple of str
+        The figure numbers of the multi-access and the orthogonal scheme (``("3", "4")``).
+    caption : str
+        A template with ``{access}`` (capitalized) and ``{what}`` (the panel's quantity).
+    what_b : str
+        Panel (b)'s quantity; panel (a)'s is the total power meeting the error target.
+    functions : tuple
+        ``(compute, plot, checks)``; ``compute(profile, seed, *, access, panel, **over)``.
+    **fields
+        The other fields of :class:`fusioncenter.figures.registry.Entry` (``chapter``,
+        ``parameters``, ``settable``, ``note``).
+
+    Returns
+    -------
+    None
+    """
+    compute, plot, checks = functions
+    for fig, access in zip(figs, ("multi-access", "orthogonal"), strict=True):
+        for panel in ("a", "b"):
+            what = "total power meeting the error target D = 2" if panel == "a" else what_b
+            register(Entry(
+                id=f"leong2011-fig{fig}{panel}", paper="leong2011", kind="figure",
+                caption=caption.format(access=access.capitalize(), what=what),
+                label=f"sec-leong2011-fig{fig}{panel}",
+                compute=functools.partial(compute, access=access, panel=panel), plot=plot,
+                checks=checks, status="reproduced", **fields))
 
 
 def _model(name: str, doc: str, default: float, minimum: float = 1e-9) -> Parameter:

@@ -16,9 +16,10 @@ from fusioncenter.figures.leong2011.common import (
     Z_TOL,
     draw_sensors,
     m_seed,
+    register_panels,
     xy,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 from fusioncenter.profile import by_profile
 
 
@@ -245,20 +246,12 @@ def checks_fading(data: dict) -> list[Claim]:
     return out
 
 
-for _fig, _access in (("5", "multi-access"), ("6", "orthogonal")):
-    for _panel in ("a", "b"):
-        _what = ("total power meeting the error target D = 2" if _panel == "a" else
-                 "error variance under the sum-power budget gamma_total = 1e-3")
-        register(Entry(
-            id=f"leong2011-fig{_fig}{_panel}", paper="leong2011", kind="figure",
-            caption=f"{_access.capitalize()} access, Rician fading: full CSI (greedy "
-            f"allocation at every step) vs no CSI (linear MMSE estimator), {_what}, against "
-            "the number of sensors M.",
-            chapter=CH_FADING, label=f"sec-leong2011-fig{_fig}{_panel}", parameters=FADING,
-            compute=functools.partial(compute_fading, access=_access, panel=_panel),
-            settable=SETTABLE_FADING,
-            plot=plot_fading, checks=checks_fading, status="reproduced",
-            note="Paper's parameters, 1000 steps x 100 realizations (paper profile). Our "
-            "choices: M = 2, 4, ..., 20; P_0 = D in (a), sigma_w2/(1-a^2) in (b); "
-            "realizations where a scheme cannot meet D are redrawn (acceptance in the data).",
-        ))
+register_panels(
+    ("5", "6"), "{access} access, Rician fading: full CSI (greedy allocation at every step) vs no "
+    "CSI (linear MMSE estimator), {what}, against the number of sensors M.",
+    "error variance under the sum-power budget gamma_total = 1e-3",
+    (compute_fading, plot_fading, checks_fading), chapter=CH_FADING, parameters=FADING,
+    settable=SETTABLE_FADING,
+    note="Paper's parameters, 1000 steps x 100 realizations (paper profile). Our choices: M = 2, "
+    "4, ..., 20; P_0 = D in (a), sigma_w2/(1-a^2) in (b); realizations where a scheme cannot "
+    "meet D are redrawn (acceptance in the data).")

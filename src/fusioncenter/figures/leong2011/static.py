@@ -16,9 +16,10 @@ from fusioncenter.figures.leong2011.common import (
     Z_TOL,
     draw_sensors,
     m_seed,
+    register_panels,
     xy,
 )
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.registry import Claim
 from fusioncenter.profile import by_profile
 
 
@@ -216,23 +217,13 @@ def checks_static(data: dict) -> list[Claim]:
     return out
 
 
-for _fig, _access in (("3", "multi-access"), ("4", "orthogonal")):
-    for _panel in ("a", "b"):
-        _what = ("total power meeting the error target D = 2" if _panel == "a" else
-                 "steady-state error under the sum-power budget gamma_total = 1e-3")
-        register(Entry(
-            id=f"leong2011-fig{_fig}{_panel}", paper="leong2011", kind="figure",
-            caption=f"{_access.capitalize()} access, static channels: optimal vs equal power "
-            f"allocation, {_what}, against the number of sensors M (average over random sensor "
-            "parameters).",
-            chapter=CH_ALLOCATION, label=f"sec-leong2011-fig{_fig}{_panel}",
-            parameters=STATIC,
-            compute=functools.partial(compute_static, access=_access, panel=_panel),
-            settable=SETTABLE_STATIC,
-            plot=plot_static, checks=checks_static, status="reproduced",
-            note="Paper's parameters and 1000 realizations per point (paper profile). Our "
-            "choices: M = 2, 4, ..., 20, and infeasible realizations (target D unreachable by "
-            "one of the schemes, rare for M >= 2) are redrawn; the acceptance rate is in the "
-            "data. The multi-access max-error allocation uses the corrected (24).",
-        ))
-
+register_panels(
+    ("3", "4"), "{access} access, static channels: optimal vs equal power allocation, {what}, "
+    "against the number of sensors M (average over random sensor parameters).",
+    "steady-state error under the sum-power budget gamma_total = 1e-3",
+    (compute_static, plot_static, checks_static), chapter=CH_ALLOCATION, parameters=STATIC,
+    settable=SETTABLE_STATIC,
+    note="Paper's parameters and 1000 realizations per point (paper profile). Our choices: M = "
+    "2, 4, ..., 20, and infeasible realizations (target D unreachable by one of the schemes, "
+    "rare for M >= 2) are redrawn; the acceptance rate is in the data. The multi-access "
+    "max-error allocation uses the corrected (24).")
