@@ -53,7 +53,12 @@ def test_literal_blocks_and_constants_are_left_alone():
 
 @pytest.mark.parametrize("path", ["book.py", "profile.py", "censoring_compare.py",
                                   "figures/scorecard.py", "figures/background.py",
-                                  "figures/dey2009.py", "figures/zheng2014/common.py"])
+                                  "figures/common.py",
+                                  *(f"figures/dey2009/{m}.py" for m in (
+                                      "common", "scalar", "multisensor", "ordering", "vector",
+                                      "distribution")),
+                                  *(f"figures/leong2011/{m}.py" for m in ("common",)),
+                                  "figures/zheng2014/common.py"])
 def test_public_functions_have_numpydoc_sections(path):
     tree = ast.parse((ROOT / "src/fusioncenter" / path).read_text())
     missing = []

@@ -125,8 +125,10 @@ def test_unknown_and_invalid_overrides_are_clear_errors():
         e.run_compute("fast", N="six")
     with pytest.raises(ValueError, match="parameter trials: expected"):
         e.run_compute("fast", trials=True)
+    bare = figures.Entry(id="bare", paper="book", kind="figure", caption="", chapter="",
+                         compute=lambda profile, seed: {})
     with pytest.raises(ValueError, match="no overrides"):
-        figures.get("background-riccati").run_compute("fast", trials=3)
+        bare.run_compute("fast", trials=3)
     p = Parameter("l", "floats", "targets", (1.0,), minimum=0.0)
     assert p.parse("1, 2.5") == (1.0, 2.5)
     for bad in ("", "1,nan", "-1", [1, "x"]):

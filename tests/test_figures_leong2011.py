@@ -9,6 +9,7 @@ from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import leong2011
+from fusioncenter.figures.leong2011 import fading_channels
 
 IDS = ["leong2011-fig1", "leong2011-fig2", "leong2011-fig3a", "leong2011-fig3b",
        "leong2011-fig4a", "leong2011-fig4b", "leong2011-fig5a", "leong2011-fig5b",
@@ -128,9 +129,9 @@ def test_lmmse_check_has_power_against_a_wrong_rbar():
 
     p = leong2011.FADING
     rng = np.random.default_rng(3)
-    sv, d, mu = leong2011._draw_fading(rng, 1, 6)
+    sv, d, mu = fading_channels._draw_fading(rng, 1, 6)
     c = np.ones(6)
-    hm, vr, vi = leong2011._fading_stats(d[0], mu[0])
+    hm, vr, vi = fading_channels._fading_stats(d[0], mu[0])
     al = power.lmmse_min_error("multi-access", p["gamma_total"], p["a"], p["sigma_w2"], c,
                                sv[0], p["sigma_n2"], hm, vr, vi)
     at = power.beamformed(al, hm)

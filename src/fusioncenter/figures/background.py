@@ -7,9 +7,10 @@ import functools
 import numpy as np
 
 from fusioncenter import montecarlo, plotting, riccati
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.context import Parameter
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.kalman import constant_velocity
-from fusioncenter.profile import by_profile
 
 CHAPTER = "book/background/kalman-riccati"
 OWN_IDS = ("background-riccati", "background-kf-montecarlo")
@@ -19,10 +20,36 @@ SCALAR = {"a": 1.25, "q": 1.0, "c": 1.0, "r": 4.0, "p0": 0.0, "steps": 30}
 #: Vector example: constant velocity, position measured.
 VECTOR = {"dt": 1.0, "q": 0.5, "r": 4.0, "m0": [0.0, 1.0], "P0": [[10.0, 0.0], [0.0, 1.0]],
           "steps": 30}
+#: Monte Carlo trials of ``background-kf-montecarlo``.
+MC_TRIALS = {"fast": 2_000, "paper": 50_000}
+
+#: The overridable parameters of ``background-riccati``: the scalar system (its vector example
+#: is fixed).
+SETTABLE_RICCATI = (
+    Parameter("a", "float", "state transition of the scalar system", SCALAR["a"], model=True),
+    Parameter("q", "float", "process-noise variance of the scalar system", SCALAR["q"],
+              minimum=0.0, model=True),
+    Parameter("r", "float", "measurement-noise variance of the scalar system", SCALAR["r"],
+              minimum=1e-9, model=True),
+)
+#: The overridable parameters of ``background-kf-montecarlo``.
+SETTABLE_MC = (
+    trials_parameter(MC_TRIALS, "Monte Carlo trials (simulated tracks)"),
+    Parameter("q", "float", "process-noise intensity of the constant-velocity model",
+              VECTOR["q"], minimum=1e-9, model=True),
+    Parameter("r", "float", "position measurement-noise variance (m^2)", VECTOR["r"],
+              minimum=1e-9, model=True),
+)
 
 
-def vector_model():
+def vector_model(q: float | None = None, r: float | None = None):
     """The constant-velocity example :data:`VECTOR` as a model.
+
+    Parameters
+    ----------
+    q, r : float, optional
+        Override the noise levels of :data:`VECTOR` (``q`` of the process, ``r`` of the
+        position measurement).
 
     Returns
     -------
@@ -30,7 +57,8 @@ def vector_model():
         Position and velocity, position measured, with the noise levels, initial mean and
         covariance of :data:`VECTOR`.
     """
-    return constant_velocity(dt=VECTOR["dt"], q=VECTOR["q"], r=VECTOR["r"], m0=VECTOR["m0"],
+    return constant_velocity(dt=VECTOR["dt"], q=VECTOR["q"] if q is None else q,
+                             r=VECTOR["r"] if r is None else r, m0=VECTOR["m0"],
                              P0=np.array(VECTOR["P0"]))
 
 
@@ -68,7 +96,7 @@ def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ------------------------------------------------------------------------ riccati convergence
-def compute_riccati(profile: str, seed: int) -> dict:
+def compute_riccati(profile: str, seed: int, **over) -> dict:
     """Data of ``background-riccati``: the scalar and the vector Riccati recursions.
 
     Deterministic: the profile and the seed do not matter.
@@ -79,6 +107,8 @@ def compute_riccati(profile: str, seed: int) -> dict:
         ``"fast"`` or ``"paper"`` (unused).
     seed : int
         Unused.
+    **over
+        Overrides of ``a``, ``q``, ``r`` of the scalar system (:data:`SETTABLE_RICCATI`).
 
     Returns
     -------
@@ -87,9 +117,10 @@ def compute_riccati(profile: str, seed: int) -> dict:
         variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form
         limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector``
         (steps + 1, 2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy``
-        the same from filterpy, ``P_vector_inf`` (2, 2) the DARE solution.
+        the same from filterpy, ``P_vector_inf`` (2, 2) the DARE solution; with an override,
+        ``scalar`` (dict) the scalar system used.
     """
-    s = SCALAR
+    s = {**SCALAR, **settings("background-riccati", SETTABLE_RICCATI, profile, over)}
     k = np.arange(s["steps"] + 1)
     p = riccati.scalar_sequence(s["p0"], s["a"], s["q"], s["c"], s["r"], s["steps"])
     p_inf = riccati.scalar_steady_state(s["a"], s["q"], s["c"], s["r"])
@@ -99,7 +130,7 @@ def compute_riccati(profile: str, seed: int) -> dict:
     P = riccati.riccati_sequence(model.P0, model.A, model.Q, model.C, model.R, VECTOR["steps"])
     P_fp, _ = filterpy_covariances(model, VECTOR["steps"])
     P_inf = riccati.steady_state(model.A, model.Q, model.C, model.R)
-    return {
+    out = {
         "k": k,
         "p_scalar": p,
         "p_scalar_inf": float(p_inf),
@@ -108,6 +139,9 @@ def compute_riccati(profile: str, seed: int) -> dict:
         "P_vector_filterpy": P_fp,
         "P_vector_inf": P_inf,
     }
+    if over:
+        out["scalar"] = s
+    return out
 
 
 def plot_riccati(data: dict):
@@ -124,10 +158,12 @@ def plot_riccati(data: dict):
     """
     fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
+    s = data.get("scalar", SCALAR)
     ax1.plot(k, data["p_scalar"], label=r"$p_{k}$ (recursion)")
     ax1.axhline(data["p_scalar_inf"], color="0.3", lw=1, ls=":", label=r"$p_\infty$ (closed form)")
     ax1.set(xlabel="time step $k$", ylabel="prediction error variance (units$^2$)",
-            title="scalar: $a=1.25$, $q=1$, $c=1$, $r=4$")
+            title="scalar: " + ", ".join(f"${k}={v:g}$" for k, v in s.items()
+                                         if k in ("a", "q", "c", "r")))
     ax1.legend()
     P = data["P_vector"]
     for i, name in enumerate(["position (m$^2$)", "velocity (m$^2$/s$^2$)"]):
@@ -158,7 +194,8 @@ def checks_riccati(data: dict) -> list[Claim]:
     gap = np.abs(p - p_inf)
     P, P_inf = data["P_vector"], data["P_vector_inf"]
     rel_fp = np.max(np.abs(P - data["P_vector_filterpy"])) / np.max(np.abs(P))
-    fixed = riccati.scalar_step(p_inf, SCALAR["a"], SCALAR["q"], SCALAR["c"], SCALAR["r"])
+    s = data.get("scalar", SCALAR)
+    fixed = riccati.scalar_step(p_inf, s["a"], s["q"], s["c"], s["r"])
     return [
         Claim("closed-form scalar steady state is a fixed point of the recursion",
               abs(fixed - p_inf) <= 1e-12 * p_inf,
@@ -166,9 +203,9 @@ def checks_riccati(data: dict) -> list[Claim]:
         Claim("closed form equals scipy's DARE solution",
               abs(p_inf - data["p_scalar_dare"]) <= 1e-10 * p_inf,
               f"{p_inf:.12f} vs {data['p_scalar_dare']:.12f}"),
-        Claim("scalar recursion from p0 = 0 increases monotonically to p_inf",
-              bool(np.all(np.diff(p) >= 0) and gap[-1] < 1e-8 * p_inf),
-              f"final gap {gap[-1]:.2e}"),
+        Claim("scalar recursion from p0 = 0 increases monotonically to p_inf (within 1e-8 by "
+              "the last step)", bool(np.all(np.diff(p) >= 0) and gap[-1] < 1e-8 * p_inf),
+              f"final gap {gap[-1]:.2e}", paper_specific=True),
         Claim("vector recursion agrees with filterpy KalmanFilter",
               rel_fp < 1e-12, f"max relative difference {rel_fp:.2e}"),
         Claim("vector recursion converges to the DARE solution",
@@ -177,33 +214,31 @@ def checks_riccati(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="background-riccati",
     paper="book",
-    kind="figure",
     caption="The Riccati recursion converging to its steady state: a scalar unstable system "
     "(closed-form root) and a constant-velocity model (checked against filterpy and scipy's DARE).",
     chapter=CHAPTER,
     label="sec-background-riccati-figure",
     parameters={"scalar": SCALAR, "vector": VECTOR},
-    compute=compute_riccati,
-    plot=plot_riccati,
-    checks=checks_riccati,
-    status="reproduced",
+    functions=(compute_riccati, plot_riccati, checks_riccati),
+    settable=SETTABLE_RICCATI,
     note="Our own figure; deterministic (no Monte Carlo).",
-))
+)
 
 
 # ------------------------------------------------------------------ Monte Carlo vs Riccati
-def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int) -> np.ndarray:
+def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
+                       r=None) -> np.ndarray:
     """Squared filtering errors of ``n`` simulated trials, shaped ``(n, steps+1, 2)``."""
-    model = vector_model()
+    model = vector_model(q, r)
     x, y = model.sample(rng, n, steps)
     xhat, _ = model.filter(y)
     return (xhat - x) ** 2
 
 
-def compute_mc(profile: str, seed: int) -> dict:
+def compute_mc(profile: str, seed: int, **over) -> dict:
     """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati.
 
     Parameters
@@ -212,6 +247,8 @@ def compute_mc(profile: str, seed: int) -> dict:
         ``"fast"`` (2 000 trials) or ``"paper"`` (50 000 trials).
     seed : int
         Seed of :func:`fusioncenter.montecarlo.simulate`.
+    **over
+        Overrides of :data:`SETTABLE_MC` (``trials``, and the model's ``q``, ``r``).
 
     Returns
     -------
@@ -224,9 +261,11 @@ def compute_mc(profile: str, seed: int) -> dict:
         over trials.
     """
     steps = VECTOR["steps"]
-    n = by_profile(profile, fast=2_000, paper=50_000)
-    res = montecarlo.simulate(functools.partial(_kf_squared_errors, steps=steps), n, seed)
-    model = vector_model()
+    v = settings("background-kf-montecarlo", SETTABLE_MC, profile, over)
+    n = v["trials"]
+    res = montecarlo.simulate(functools.partial(_kf_squared_errors, steps=steps, q=v["q"],
+                                                r=v["r"]), n, seed)
+    model = vector_model(v["q"], v["r"])
     _, P_post = model.filter(np.zeros((1, steps + 1, 1)))
     riccati_diag = np.stack([P_post[:, 0, 0], P_post[:, 1, 1]], axis=1)
     # One number per trial: its squared error averaged over steps, each component scaled by its
@@ -250,7 +289,7 @@ def plot_mc(data: dict):
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_mc`.
+        The data of ``background-kf-montecarlo`` (:func:`compute_mc`).
 
     Returns
     -------
@@ -277,7 +316,7 @@ def checks_mc(data: dict) -> list[Claim]:
     Parameters
     ----------
     data : dict
-        The output of :func:`compute_mc`.
+        What :func:`compute_mc` returns.
 
     Returns
     -------
@@ -299,18 +338,15 @@ def checks_mc(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="background-kf-montecarlo",
     paper="book",
-    kind="figure",
     caption="What the Riccati recursion predicts: the Monte Carlo mean squared error of the "
     "Kalman filter matches the diagonal of P_{k|k} at every step.",
     chapter=CHAPTER,
     label="sec-background-kf-montecarlo",
-    parameters={"model": VECTOR, "trials": {"fast": 2_000, "paper": 50_000}},
-    compute=compute_mc,
-    plot=plot_mc,
-    checks=checks_mc,
-    status="reproduced",
+    parameters={"model": VECTOR, "trials": MC_TRIALS},
+    functions=(compute_mc, plot_mc, checks_mc),
+    settable=SETTABLE_MC,
     note="Our own figure; agreement within the stated Monte Carlo error.",
-))
+)

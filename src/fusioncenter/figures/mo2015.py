@@ -24,9 +24,10 @@ import itertools
 import numpy as np
 
 from fusioncenter import event, montecarlo, plotting, riccati
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.context import Parameter
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
-from fusioncenter.profile import by_profile
 
 #: The book's own figures that this module registers (the notes have no figures of their own).
 OWN_IDS = ("mo2015-rate", "mo2015-tradeoff", "mo2015-tracking")
@@ -58,6 +59,20 @@ RATE_TRIALS = {"fast": 4_000, "paper": 100_000}
 TRADEOFF_TRIALS = {"fast": 4_000, "paper": 100_000}
 TRACKING_TRIALS = {"fast": 2_000, "paper": 20_000}
 CALIBRATION_TRIALS = {"fast": 500, "paper": 5_000}
+
+#: The overridable parameters of each entry (``--set key=value``).
+SETTABLE_RATE = (trials_parameter(RATE_TRIALS, "Monte Carlo draws of the example's measurements"),)
+SETTABLE_TRADEOFF = (trials_parameter(TRADEOFF_TRIALS,
+                                      "Monte Carlo draws of the example's state and measurements"),)
+SETTABLE_TRACKING = (
+    trials_parameter(TRACKING_TRIALS, "Monte Carlo tracks per scheme and rate"),
+    trials_parameter(CALIBRATION_TRIALS, "tracks of the calibration of each delta",
+                     name="calibration_trials"),
+    Parameter("sigma2", "float", "process-noise intensity of the tracking model (m^2/s^3)",
+              TRACKING["sigma2"], minimum=1e-6, model=True),
+    Parameter("r", "float", "measurement-noise variance of each sensor (m^2)", TRACKING["r"],
+              minimum=1e-6, model=True),
+)
 
 #: A z-score beyond this is a failed check. Under the claim each z is about N(0, 1) and
 #: P(|Z| > 4) = 6.3e-5, so the 60-odd z-scores of one entry raise a false alarm with probability
@@ -253,7 +268,7 @@ def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
     return np.stack([g0, g1], axis=2).astype(float)
 
 
-def compute_rate(profile: str, seed: int) -> dict:
+def compute_rate(profile: str, seed: int, **over) -> dict:
     xbar, Sigma, C, r = example()
     s = output_variances(Sigma, C, r)
     mu = C @ xbar
@@ -263,7 +278,7 @@ def compute_rate(profile: str, seed: int) -> dict:
     notes = 1.0 - 1.0 / np.sqrt(1.0 + s[None, :] / fine[:, None])  # the notes' formula, verbatim
     back0 = event.delta_for_rate(rate0, s[None, :], 0.0)
     back1 = event.delta_for_rate(rate1, s[None, :], mu[None, :])
-    n = by_profile(profile, **RATE_TRIALS)
+    n = settings("mo2015-rate", SETTABLE_RATE, profile, over)["trials"]
     res = montecarlo.simulate(functools.partial(_rate_chunk, deltas=RATE_DELTAS), n, seed)
     closed = np.stack([np.array([event.communication_rate(Sigma, C, r, d) for d in RATE_DELTAS]),
                        np.array([event.communication_rate(Sigma, C, r, d, xbar)
@@ -338,10 +353,9 @@ def checks_rate(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-rate",
     paper="mo2015",
-    kind="figure",
     caption="Communication rate P(gamma_i = 1) against the trigger parameter delta for the three "
     "sensors of the static example: the notes' closed form (prior mean 0), our extension to a "
     "non-zero prior mean, and Monte Carlo estimates with 1.96 standard errors.",
@@ -349,13 +363,11 @@ register(Entry(
     label="sec-mo2015-rate-figure",
     parameters={"example": EXAMPLE, "delta_mc": [round(float(d), 6) for d in RATE_DELTAS],
                 "trials": RATE_TRIALS},
-    compute=compute_rate,
-    plot=plot_rate,
-    checks=checks_rate,
-    status="reproduced",
+    functions=(compute_rate, plot_rate, checks_rate),
+    settable=SETTABLE_RATE,
     note="Our own figure (the notes have none); closed form and simulation agree within the "
     "stated Monte Carlo error.",
-))
+)
 
 
 # -------------------------------------------------------------------------- mo2015-tradeoff
@@ -386,7 +398,7 @@ def _tradeoff_chunk(rng: np.random.Generator, n: int, *, rates, deltas) -> np.nd
     return np.stack(cols, axis=1)
 
 
-def compute_tradeoff(profile: str, seed: int) -> dict:
+def compute_tradeoff(profile: str, seed: int, **over) -> dict:
     xbar, Sigma, C, r = example()
     m = len(r)
     fine = np.round(np.linspace(0.02, 0.98, 49), 10)
@@ -395,7 +407,7 @@ def compute_tradeoff(profile: str, seed: int) -> dict:
     exact_r = np.array([expected_trace_random(Sigma, C, r, p) for p in fine])
     rates = TRADEOFF_RATES
     deltas = tradeoff_deltas(rates)
-    n = by_profile(profile, **TRADEOFF_TRIALS)
+    n = settings("mo2015-tradeoff", SETTABLE_TRADEOFF, profile, over)["trials"]
     res = montecarlo.simulate(functools.partial(_tradeoff_chunk, rates=rates, deltas=deltas),
                               n, seed)
     L = len(rates)
@@ -484,10 +496,9 @@ def checks_tradeoff(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-tradeoff",
     paper="mo2015",
-    kind="figure",
     caption="Mean squared error against communication rate for a 2-state, 3-sensor static "
     "example: the stochastic trigger with the closed-form MMSE estimator, random selection at "
     "the same per-sensor rate, and all-send; exact curves and Monte Carlo points.",
@@ -496,20 +507,31 @@ register(Entry(
     parameters={"example": EXAMPLE, "rates": [float(x) for x in TRADEOFF_RATES],
                 "trials": TRADEOFF_TRIALS,
                 "delta": "per sensor, delta_for_rate(rate, s_i, a_i xbar)"},
-    compute=compute_tradeoff,
-    plot=plot_tradeoff,
-    checks=checks_tradeoff,
-    status="reproduced",
+    functions=(compute_tradeoff, plot_tradeoff, checks_tradeoff),
+    settable=SETTABLE_TRADEOFF,
     note="Our own figure (the notes have none); simulation matches the exact curves within the "
     "stated Monte Carlo error.",
-))
+)
 
 
 # -------------------------------------------------------------------------- mo2015-tracking
-def tracking() -> object:
-    """The tracking model of zheng2014 Section VII.A with :data:`TRACKING`'s sensors."""
-    return tracking_model(TRACKING["n_sensors"], sigma2=TRACKING["sigma2"], r=TRACKING["r"],
-                          x0=TRACKING["x0"])
+def tracking(sigma2: float | None = None, r: float | None = None) -> object:
+    """The tracking model of zheng2014 Section VII.A with :data:`TRACKING`'s sensors.
+
+    Parameters
+    ----------
+    sigma2, r : float, optional
+        The process-noise intensity and the measurement-noise variance (default: those of
+        :data:`TRACKING`).
+
+    Returns
+    -------
+    fusioncenter.kalman.LinearGaussianModel
+        The model of :func:`fusioncenter.models.tracking_model`.
+    """
+    return tracking_model(TRACKING["n_sensors"],
+                          sigma2=TRACKING["sigma2"] if sigma2 is None else sigma2,
+                          r=TRACKING["r"] if r is None else r, x0=TRACKING["x0"])
 
 
 def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> dict:
@@ -535,11 +557,11 @@ def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> di
     }
 
 
-def compute_tracking(profile: str, seed: int) -> dict:
-    model = tracking()
+def compute_tracking(profile: str, seed: int, **over) -> dict:
+    v = settings("mo2015-tracking", SETTABLE_TRACKING, profile, over)
+    model = tracking(v["sigma2"], v["r"])
     steps, rates = TRACKING["steps"], np.array(TRACKING["rates"])
-    n = by_profile(profile, **TRACKING_TRIALS)
-    n_cal = by_profile(profile, **CALIBRATION_TRIALS)
+    n, n_cal = v["trials"], v["calibration_trials"]
     cal = [event.calibrate_delta(model, float(p), n_trials=n_cal, steps=steps, burn_in=0,
                                  seed=seed + 1) for p in rates]
     delta = np.array([c.delta[0] for c in cal])
@@ -641,10 +663,9 @@ def checks_tracking(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="mo2015-tracking",
     paper="mo2015",
-    kind="figure",
     caption="The event-triggered Kalman filter (stochastic trigger on the innovation, exact "
     "MMSE filter) on the tracking model of zheng2014 Section VII.A with N = 2 sensors: "
     "position and velocity RMSE against average transmissions per step, against random "
@@ -653,10 +674,8 @@ register(Entry(
     label="sec-mo2015-tracking",
     parameters={**TRACKING, "trials": TRACKING_TRIALS, "calibration_trials": CALIBRATION_TRIALS,
                 "delta": "calibrate_delta on the same 20-step horizon (burn_in = 0)"},
-    compute=compute_tracking,
-    plot=plot_tracking,
-    checks=checks_tracking,
-    status="reproduced",
+    functions=(compute_tracking, plot_tracking, checks_tracking),
+    settable=SETTABLE_TRACKING,
     note="Our own figure (the notes stop at one-shot estimation); the filter's covariance "
     "matches its Monte Carlo error within the stated tolerance.",
-))
+)

@@ -26,7 +26,8 @@ import time
 import numpy as np
 
 from fusioncenter import censoring, event, plotting, synthesis
-from fusioncenter.figures.registry import Claim, Entry, register
+from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
 from fusioncenter.profile import by_profile
 
@@ -51,6 +52,15 @@ TRIALS = {"fast": 512, "paper": 2048}
 PARTICLES = {"fast": 500, "paper": 500}
 CALIBRATION_TRIALS = {"fast": 500, "paper": 2000}
 COST_TRIALS = {"fast": 256, "paper": 1024}
+#: The overridable parameters (Monte Carlo sizes only: every claim applies).
+SETTABLE_FRONTIER = (
+    trials_parameter(TRIALS, "Monte Carlo trials per scheme and budget"),
+    trials_parameter(PARTICLES, "particles of each particle filter", name="particles"),
+    trials_parameter(CALIBRATION_TRIALS, "trials of the calibration of each delta",
+                     name="calibration_trials"),
+)
+SETTABLE_FADING = SETTABLE_FRONTIER
+SETTABLE_COST = (trials_parameter(COST_TRIALS, "Monte Carlo trials per particle count"),)
 #: Iterations of the energy-matched fixed point (per-packet power from the measured rate).
 ENERGY_ITERATIONS = 3
 
@@ -65,7 +75,7 @@ def scenario() -> censoring.LinearScenario:
                                     x0=tuple(PROBLEM["x0"]))
 
 
-def calibrate(rates, profile: str, seed: int) -> np.ndarray:
+def calibrate(rates, profile: str, seed: int, n_trials: int | None = None) -> np.ndarray:
     """One trigger parameter ``delta`` per per-sensor target rate, the same for both sensors.
 
     The sensors are identical, so they share ``delta``. A sensor's send probability at step
@@ -73,11 +83,12 @@ def calibrate(rates, profile: str, seed: int) -> np.ndarray:
     ``P_{t|t-1}`` is random (it depends on who sent before), so the 20-step average has no closed
     form: :func:`fusioncenter.event.calibrate_delta` finds ``delta`` by simulation (common random
     numbers, tolerance 1e-3 on its own sample), averaging steps ``t = 1..20`` (``burn_in = 1``
-    skips the library's step 0, where ``x_0`` is known).
+    skips the library's step 0, where ``x_0`` is known), on ``n_trials`` tracks (default:
+    :data:`CALIBRATION_TRIALS` of the profile).
     """
     model = tracking_model(PROBLEM["N"], sigma2=PROBLEM["sigma2"], r=PROBLEM["r"],
                            x0=PROBLEM["x0"])
-    n_cal = by_profile(profile, **CALIBRATION_TRIALS)
+    n_cal = by_profile(profile, **CALIBRATION_TRIALS) if n_trials is None else n_trials
     return np.array([float(event.calibrate_delta(model, float(rho), n_trials=n_cal,
                                                  steps=PROBLEM["T"], burn_in=1,
                                                  seed=seed + 1).delta[0]) for rho in rates])
@@ -110,10 +121,10 @@ def _paired(a, b, out: dict, name: str, rate: bool = False) -> None:
 
 
 # ------------------------------------------------------------------------- synthesis-frontier
-def compute_frontier(profile: str, seed: int) -> dict:
+def compute_frontier(profile: str, seed: int, **over) -> dict:
     sc = scenario()
-    n = by_profile(profile, **TRIALS)
-    n_p = by_profile(profile, **PARTICLES)
+    v = settings("synthesis-frontier", SETTABLE_FRONTIER, profile, over)
+    n, n_p = v["trials"], v["particles"]
     N = sc.N
     pf = {}
     for scheme in synthesis.PF_SCHEMES:
@@ -125,7 +136,7 @@ def compute_frontier(profile: str, seed: int) -> dict:
     # per-sensor targets: the grid, then the rates the particle-filter schemes actually reached
     matched = {s: np.array([x.rate()[0] / N for x in pf[s]]) for s in synthesis.PF_SCHEMES}
     targets = np.concatenate([FRONTIER_GRID, matched["cfwmd"], matched["cfomd"]])
-    deltas = calibrate(targets, profile, seed)
+    deltas = calibrate(targets, profile, seed, v["calibration_trials"])
     runs = [synthesis.KFRun("all-send")]
     runs += [synthesis.KFRun("stochastic", delta=float(d)) for d in deltas]
     runs += [synthesis.KFRun("random", p=float(p)) for p in targets]
@@ -259,10 +270,9 @@ def checks_frontier(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-frontier",
     paper="book",
-    kind="figure",
     caption="The accuracy-communication frontier of one tracking problem (zheng2014 Section "
     "VII.A, two sensors): position and velocity RMSE against measured transmissions per step "
     "for mo2015's stochastic trigger with its exact Kalman filter, zheng2014's NIS censoring "
@@ -273,21 +283,19 @@ register(Entry(
                 "trials": TRIALS, "particles": PARTICLES, "calibration_trials":
                 CALIBRATION_TRIALS, "delta": "one per rate, shared by both sensors, "
                 "calibrate_delta on t = 1..20"},
-    compute=compute_frontier,
+    functions=(compute_frontier, plot_frontier, checks_frontier),
+    settable=SETTABLE_FRONTIER,
     # the particle filters have no covariance: their "trace" is NaN by definition
     nonfinite_ok=("cfomd_trace", "cfwmd_trace", "allsend_pf_trace"),
-    plot=plot_frontier,
-    checks=checks_frontier,
-    status="reproduced",
     note="Our own figure (no paper compares these schemes); every ordering is checked with "
     "paired z-scores at measured, matched budgets.",
-))
+)
 
 
 # ------------------------------------------------------------------------------ synthesis-cost
-def compute_cost(profile: str, seed: int) -> dict:
+def compute_cost(profile: str, seed: int, **over) -> dict:
     sc = scenario()
-    n = by_profile(profile, **COST_TRIALS)
+    n = settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
     particles = np.array(by_profile(profile, **COST_PARTICLES))
     steps = n * sc.T
     kf = synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n, seed=seed)[0]
@@ -394,10 +402,9 @@ def checks_cost(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-cost",
     paper="book",
-    kind="figure",
     caption="Computational cost per step of the Kalman filter (mo2015's trigger, random "
     "selection, all-send) and of zheng2014's particle filter: an operation-count model, measured "
     "wall time, and the all-send particle filter's excess RMSE over the exact Kalman filter as "
@@ -405,13 +412,11 @@ register(Entry(
     chapter=CHAPTER,
     label="sec-synthesis-cost",
     parameters={**PROBLEM, "particles": COST_PARTICLES, "trials": COST_TRIALS},
-    compute=compute_cost,
-    plot=plot_cost,
-    checks=checks_cost,
-    status="reproduced",
+    functions=(compute_cost, plot_cost, checks_cost),
+    settable=SETTABLE_COST,
     note="Our own figure; the cost claim uses the operation-count model (deterministic), the "
     "measured times are shown for orientation only.",
-))
+)
 
 
 # --------------------------------------------------------------------------- synthesis-fading
@@ -436,10 +441,10 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     return res[:k], res[k:], trig, used, rho
 
 
-def compute_fading(profile: str, seed: int) -> dict:
+def compute_fading(profile: str, seed: int, **over) -> dict:
     sc = scenario()
-    n = by_profile(profile, **TRIALS)
-    n_p = by_profile(profile, **PARTICLES)
+    v = settings("synthesis-fading", SETTABLE_FADING, profile, over)
+    n, n_p = v["trials"], v["particles"]
     N = sc.N
     eps = np.array(OUTAGES)
     pf = functools.partial(synthesis.run_pf, sc, l=FADING_L, n_trials=n, n_particles=n_p,
@@ -450,7 +455,7 @@ def compute_fading(profile: str, seed: int) -> dict:
                                     for e in eps[1:]]  # at outage 0 the receivers coincide
     # the KF schemes at CFwMD's measured rate on the perfect link
     p = cfwmd_csi[0].rate()[0] / N
-    delta = float(calibrate([p], profile, seed)[0])
+    delta = float(calibrate([p], profile, seed, v["calibration_trials"])[0])
     runs = []
     for e in eps:
         runs += [synthesis.KFRun("all-send", outage=float(e)),
@@ -609,10 +614,9 @@ def checks_fading(data: dict) -> list[Claim]:
     ]
 
 
-register(Entry(
+register_figure(
     id="synthesis-fading",
     paper="book",
-    kind="figure",
     caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; a "
     "packet is lost when the power gain is below a threshold): position RMSE and packets sent "
     "against the outage probability, with a receiver that knows the channel gains and a naive "
@@ -624,12 +628,10 @@ register(Entry(
                 "Rayleigh, mean power gain 1, independent per sensor and step",
                 "trials": TRIALS, "particles": PARTICLES,
                 "energy_iterations": ENERGY_ITERATIONS},
-    compute=compute_fading,
+    functions=(compute_fading, plot_fading, checks_fading),
+    settable=SETTABLE_FADING,
     # the particle filters have no covariance: their "trace" is NaN by definition
     nonfinite_ok=("cfomd_trace", "cfwmd_csi_trace", "cfwmd_naive_trace"),
-    plot=plot_fading,
-    checks=checks_fading,
-    status="reproduced",
     note="Our own figure (the papers do not combine these models); every claim is checked "
     "with paired z-scores.",
-))
+)
