@@ -255,6 +255,46 @@ def test_scenario_validation(kwargs, word):
         cv.VectorScenario(**kwargs)
 
 
+def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
+    """sigma2 = 0 (Q = 0) with a known start: the track is x0 moved at constant velocity, the
+    local filters know the state exactly (P_pred = 0) and every fusion centre's particles sit on
+    the true track, so the position error is 0 for every scheme and feedback."""
+    sc = cv.VectorScenario(sigma2=0.0, T=5)
+    assert sc.sigma2 == 0.0 and np.array_equal(sc.Q, np.zeros((2, 2)))
+    x, z = sc.sample(np.random.default_rng(1), 3)
+    truth = sc.x0[0] + sc.x0[1] * np.arange(sc.T + 1)
+    np.testing.assert_allclose(x[..., 0], np.broadcast_to(truth, x.shape[:-1]), rtol=0,
+                               atol=1e-12)
+    assert np.all(np.isfinite(z)) and np.all(sc.local_filters()["P_pred"] == 0.0)
+    runs = [(fb, scheme, {}) for fb in ("state", "state+cov", "none")
+            for scheme in ("all-send", "cfwmd", "cfomd", "random")]
+    runs += [("none", "cfwmd", {"likelihood": "printed"})]
+    for fb, scheme, kw in runs:
+        if fb == "none" and scheme == "cfwmd" and not kw:
+            kw = {"likelihood": "exact"}
+        rmse = cs.run(sc, scheme, l=1, n_trials=4, n_particles=20, seed=3, feedback=fb,
+                      **kw).rmse_position
+        assert np.all(np.isfinite(rmse.value)) and np.max(rmse.value) < 1e-9, (fb, scheme, kw)
+    # with an uncertain (even singular) start the filter stays finite
+    for P0 in (((1.0, 0.0), (0.0, 0.1)), ((1.0, 1.0), (1.0, 1.0))):
+        sc0 = cv.VectorScenario(sigma2=0.0, T=3, P0=P0)
+        rmse = cs.run(sc0, "cfwmd", l=1, n_trials=3, n_particles=30, seed=1).rmse_position
+        assert np.all(np.isfinite(rmse.value))
+
+
+@pytest.mark.parametrize("P0, word", [(((1.0, 0.0), (0.0, float("nan"))), "^P0: P0 must be finite"),
+                                      (((1.0, 2.0), (2.0, 1.0)), "^P0: P0 must be positive semi"),
+                                      (((1.0, 0.5), (0.0, 1.0)), "^P0: P0 must be symmetric")])
+def test_p0_is_checked_symmetric_psd(P0, word):
+    with pytest.raises(ValueError, match=word):
+        cv.VectorScenario(P0=P0)
+
+
+def test_singular_R_is_refused_with_the_reason():
+    with pytest.raises(ValueError, match="^R must be positive definite .*likelihood degenerate"):
+        cv.VectorScenario(R=((1.0, 1.0), (1.0, 1.0)))
+
+
 def test_local_filters_match_filterpy_and_the_cross_covariance():
     sc = cv.VectorScenario(P0=((1.0, 0.2), (0.2, 0.5)))
     lf = sc.local_filters()

@@ -72,8 +72,33 @@ def check_eta(value) -> float:
     return float(value)
 
 
-def check_pd(name: str, value, m: int | None = None) -> np.ndarray:
-    """Symmetric positive-definite matrices ``(..., m, m)``."""
+def check_pd(name: str, value, m: int | None = None, *,
+             why: str = "a covariance of full rank") -> np.ndarray:
+    """Symmetric positive-definite matrices ``(..., m, m)``.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the messages.
+    value : array_like
+        Matrices ``(..., m, m)``, finite.
+    m : int, optional
+        The required size (any square size if omitted).
+    why : str
+        Why the matrices must be positive definite, quoted in the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        The matrices, symmetrized (``(A + A^T) / 2``; asymmetry up to ``1e-10`` relative is
+        accepted).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` if the matrices are not finite, not square of size ``m``, not symmetric
+        or not positive definite.
+    """
     arr = _finite(name, value)
     if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2] or (m is not None and arr.shape[-1] != m):
         want = f"(..., {m}, {m})" if m is not None else "(..., m, m)"
@@ -83,7 +108,7 @@ def check_pd(name: str, value, m: int | None = None) -> np.ndarray:
         raise ValueError(f"{name} must be symmetric")
     arr = 0.5 * (arr + np.swapaxes(arr, -1, -2))
     if np.any(np.linalg.eigvalsh(arr) <= 0):
-        raise ValueError(f"{name} must be positive definite (a covariance of full rank)")
+        raise ValueError(f"{name} must be positive definite ({why})")
     return arr
 
 
@@ -362,6 +387,18 @@ class _PowerTable:
         return out
 
 
+def _hermite_basis(t):
+    """The cubic Hermite basis at ``t`` in ``[0, 1]``: ``A0`` (``A1 = 1 - A0``: the weights of
+    the values at 0 and 1) and ``D0``, ``D1`` (of the derivatives times the step)."""
+    u = 1.0 - t
+    D0 = u * u
+    A0 = (2.0 * t + 1.0) * D0
+    D0 *= t
+    D1 = t * t
+    D1 *= -u
+    return A0, D0, D1
+
+
 class _Hermite2D:
     """Bicubic Hermite interpolation of stacked 2-D tables (values and exact derivatives).
 
@@ -399,19 +436,8 @@ class _Hermite2D:
         i *= self.G2
         i += j
         k00 = i
-        # cubic Hermite basis: A0 + A1 = 1 (values at 0 and 1), D0, D1 (derivatives times h)
-        u1 = 1.0 - t1
-        D0 = u1 * u1
-        A0 = (2.0 * t1 + 1.0) * D0
-        D0 *= t1
-        D1 = t1 * t1
-        D1 *= -u1
-        u2 = 1.0 - t2
-        E0 = u2 * u2
-        B0 = (2.0 * t2 + 1.0) * E0
-        E0 *= t2
-        E1 = t2 * t2
-        E1 *= -u2
+        A0, D0, D1 = _hermite_basis(t1)
+        B0, E0, E1 = _hermite_basis(t2)
         out = None
         for dj in (0, 1):
             ka = k00 + dj if dj else k00

@@ -10,7 +10,6 @@ import numpy as np
 
 from fusioncenter import particle
 from fusioncenter._validate import finite as _finite
-from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
 
@@ -51,6 +50,43 @@ def target_dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
         return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
     except ValueError as err:
         raise ValueError(f"P0: {err}") from None
+
+
+def check_motion(N, T, dt, sigma2) -> tuple[int, int, float, float]:
+    """The fields every tracking scenario shares, validated.
+
+    Parameters
+    ----------
+    N : int
+        Number of sensors, a positive integer.
+    T : int
+        Number of measured time steps, a positive integer.
+    dt : float
+        Sampling interval, a positive number.
+    sigma2 : float
+        Process-noise intensity, ``>= 0`` (``0``: deterministic motion at constant velocity,
+        ``Q = 0`` is a valid covariance).
+
+    Returns
+    -------
+    tuple of (int, int, float, float)
+        ``(N, T, dt, sigma2)`` as Python numbers.
+
+    Raises
+    ------
+    ValueError
+        Naming the field that is not of the stated kind.
+    """
+    N = _posint("N", N)
+    T = _posint("T", T)
+    dt_ = _finite("dt", dt)
+    if dt_.ndim or dt_ <= 0:
+        raise ValueError(f"dt must be a positive number, got {dt!r}")
+    s2 = _finite("sigma2", sigma2)
+    if s2.ndim or s2 < 0:
+        raise ValueError(f"sigma2 must be a non-negative number (0: deterministic motion), "
+                         f"got {sigma2!r}")
+    return N, T, float(dt_), float(s2)
 
 
 def check_x0_pair(value) -> np.ndarray:
@@ -179,11 +215,7 @@ class LinearScenario(Scenario):
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        N = _posint("N", self.N)
-        _posint("T", self.T)
-        dt = float(_positive("dt", self.dt))
-        # sigma2 = 0 is deterministic motion (constant velocity): Q = 0 is a valid covariance
-        sigma2 = float(_nonneg("sigma2", self.sigma2))
+        N, _, dt, sigma2 = check_motion(self.N, self.T, self.dt, self.sigma2)
         r = _positive("r", self.r)
         if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
             raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "

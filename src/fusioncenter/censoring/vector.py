@@ -63,15 +63,7 @@ class VectorScenario(scenarios.Scenario):
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        N = _posint("N", self.N)
-        _posint("T", self.T)
-        dt = _finite("dt", self.dt)
-        if dt.ndim or dt <= 0:
-            raise ValueError(f"dt must be a positive number, got {self.dt!r}")
-        dt = float(dt)
-        sigma2 = _finite("sigma2", self.sigma2)
-        if sigma2.ndim or sigma2 <= 0:
-            raise ValueError(f"sigma2 must be a positive number, got {self.sigma2!r}")
+        N, _, dt, sigma2 = scenarios.check_motion(self.N, self.T, self.dt, self.sigma2)
         H = _finite("H", self.H)
         if H.ndim == 1:
             H = H[None, :]
@@ -90,7 +82,8 @@ class VectorScenario(scenarios.Scenario):
         if R.ndim not in (2, 3) or R.shape[-2:] != (m, m) or (R.ndim == 3 and R.shape[0] != N):
             raise ValueError(f"R must be ({m}, {m}) or one per sensor ({N}, {m}, {m}), "
                              f"got shape {R.shape}")
-        R = check_pd("R", R, m)
+        R = check_pd("R", R, m, why="a singular R makes the likelihood degenerate: the received "
+                     "measurements would have no density")
         x0 = scenarios.check_x0_pair(self.x0)
         scenarios.check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
