@@ -809,6 +809,30 @@ def test_no_feedback_region_probability_needs_no_log_domain_rectangle(t):
         assert np.max(np.abs(np.expm1(fast - acc))) < 1e-13
 
 
+def test_every_public_function_and_class_has_numpydoc_sections():
+    """Issue 15 item 5 for the censoring package: ``Parameters`` (where there are any) and
+    ``Returns`` (functions) in every public function and class of every submodule."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    mods = [cs] + [importlib.import_module(f"fusioncenter.censoring.{m.name}")
+                   for m in pkgutil.iter_modules(cs.__path__)]
+    missing, n = [], 0
+    for mod in mods:
+        for name, obj in vars(mod).items():
+            f = inspect.unwrap(obj) if callable(obj) else obj
+            if name.startswith("_") or not (inspect.isfunction(f) or inspect.isclass(f)) \
+                    or f.__module__ != mod.__name__:
+                continue
+            n += 1
+            doc = inspect.getdoc(f) or ""
+            params = [p for p in inspect.signature(f).parameters if p != "self"]
+            need = (["Parameters"] if params else []) + ([] if inspect.isclass(f) else ["Returns"])
+            missing += [f"{mod.__name__}.{name}: {s}" for s in need if f"{s}\n---" not in doc]
+    assert n > 70 and not missing, missing
+
+
 def test_streams_are_pcg64_for_the_data_and_sfc64_for_the_filter():
     rng = np.random.default_rng(np.random.SeedSequence(3).spawn(1)[0])
     data, pf = cs.results.streams(rng)

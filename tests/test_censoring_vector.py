@@ -255,6 +255,46 @@ def test_scenario_validation(kwargs, word):
         cv.VectorScenario(**kwargs)
 
 
+@pytest.mark.parametrize("mean, eta", [((0.3, -0.2), 1.0), ((0.0, 0.0), 0.5), ((3.0, 1.0), 1.0),
+                                       ((-2.0, -1.0), 9.0)])
+def test_singular_covariance_is_the_exact_degenerate_limit(mean, eta):
+    """Issue 17 item 2: a rank-one cov = lam v v^T (q moves on a line) is a valid law, not an
+    error: P(q^T q < eta) = P(|z + w / sqrt(lam)| < sqrt((eta - |mean_perp|^2) / lam)) (0 if the
+    line misses the disc); cov = 0: 1 or 0 as the mean lies inside or not."""
+    v, lam = np.array([0.6, 0.8]), 2.0
+    cov = lam * np.outer(v, v)
+    mean = np.array(mean)
+    w = float(v @ mean)
+    rest = eta - (mean @ mean - w * w)
+    if rest > 0:
+        hw, c = mp.sqrt(rest / lam), w / mp.sqrt(lam)
+        ref = float(mp.log(mp.ncdf(hw - c) - mp.ncdf(-hw - c)))
+        assert float(cv.log_censored_probability(mean, cov, eta)) == pytest.approx(ref, rel=1e-13)
+    else:
+        assert cv.log_censored_probability(mean, cov, eta) == -np.inf
+    assert cv.log_censored_probability(mean, np.zeros((2, 2)), eta) == (
+        0.0 if mean @ mean < eta else -np.inf)
+    # a batch mixing singular and regular covariances: each as on its own
+    both = cv.log_censored_probability(mean, np.stack([cov, np.eye(2)]), eta)
+    assert both[0] == cv.log_censored_probability(mean, cov, eta)
+    assert both[1] == cv.log_censored_probability(mean, np.eye(2), eta)
+    # the silent factor with a singular R: the same law after whitening by S
+    S = np.diag([2.0, 3.0])
+    Li = np.diag(1 / np.sqrt([2.0, 3.0]))
+    assert cv.log_silent_probability(mean, S, cov, eta) == pytest.approx(
+        float(cv.log_censored_probability(Li @ mean, Li @ cov @ Li, eta)), rel=1e-12, abs=0)
+
+
+def test_singular_covariance_sampled_and_refused_when_indefinite():
+    cov = 2.0 * np.outer([0.6, 0.8], [0.6, 0.8])
+    p = math.exp(cv.log_censored_probability([0.3, -0.2], cov, 1.0))
+    est = cv.censored_probability_sampled(np.array([0.3, -0.2]), cov, 1.0, n_samples=4000,
+                                          rng=np.random.default_rng(5))
+    assert abs(est - p) < 4 * math.sqrt(p * (1 - p) / 4000)
+    with pytest.raises(ValueError, match="^cov must be positive semi-definite"):
+        cv.log_censored_probability([0.0, 0.0], [[1.0, 2.0], [2.0, 1.0]], 1.0)
+
+
 def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
     """sigma2 = 0 (Q = 0) with a known start: the track is x0 moved at constant velocity, the
     local filters know the state exactly (P_pred = 0) and every fusion centre's particles sit on

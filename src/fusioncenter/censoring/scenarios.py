@@ -33,19 +33,54 @@ def _as_tuple(value):
 
 
 def nested_tuple(arr: np.ndarray):
-    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
+    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields).
+
+    Parameters
+    ----------
+    arr : numpy.ndarray
+        Floats, ``ndim >= 1``.
+
+    Returns
+    -------
+    tuple
+        Nested tuples of floats, one level per axis.
+    """
     return tuple(nested_tuple(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
 
 
 def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
     """``(F, Q / sigma2)`` of the white-noise-acceleration model in one axis, step ``dt``:
-    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``."""
+    ``F = [[1, dt], [0, 1]]``, ``Q / sigma2 = [[dt^4/4, dt^3/2], [dt^3/2, dt^2]]``.
+
+    Parameters
+    ----------
+    dt : float
+        Step, ``> 0``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``F (2, 2)`` and ``Q / sigma2 (2, 2)``.
+    """
     return (np.array([[1.0, dt], [0.0, 1.0]]),
             np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
 
 
 def target_dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
-    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``)."""
+    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``).
+
+    Parameters
+    ----------
+    F, Q : array_like
+        Transition and process-noise covariance (PSD).
+    x0, P0 : array_like
+        Mean and covariance (PSD, singular allowed) of ``x_0``.
+
+    Returns
+    -------
+    fusioncenter.particle.LinearGaussianDynamics
+        The law of the target.
+    """
     try:
         return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
     except ValueError as err:
@@ -90,6 +125,18 @@ def check_motion(N, T, dt, sigma2) -> tuple[int, int, float, float]:
 
 
 def check_x0_pair(value) -> np.ndarray:
+    """The initial mean ``x0``: a finite ``[position, velocity]`` pair.
+
+    Parameters
+    ----------
+    value : array_like
+        The pair.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x0 (2,)``.
+    """
     x0 = _finite("x0", value)
     if x0.shape != (2,):
         raise ValueError(f"x0 must be a [position, velocity] pair, got {value!r}")
@@ -97,11 +144,34 @@ def check_x0_pair(value) -> np.ndarray:
 
 
 def check_feedback_moments(value) -> None:
+    """Check ``feedback_moments`` (``"analytic"`` or ``"particles"``; ``ValueError`` otherwise).
+
+    Parameters
+    ----------
+    value : str
+        The field's value.
+
+    Returns
+    -------
+    None
+    """
     if value not in ("analytic", "particles"):
         raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
 
 
 def time_axis_choice(T: int) -> str:
+    """The ``"time axis"`` entry of a scenario's ``choices``.
+
+    Parameters
+    ----------
+    T : int
+        Number of measured steps.
+
+    Returns
+    -------
+    str
+        The sentence.
+    """
     return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
             "transmissions are reported for t = 1..T")
 
@@ -126,6 +196,18 @@ def local_error_recursion(sc, update) -> None:
     and returns ``(A, W)`` (``2N x 2N``, block diagonal: ``I - w^i h_i^T`` and the gain times the
     noise covariance times the gain transposed), and ``Sigma_{t+1|t+1} = A Sigma A^T + W``. Both
     covariances are symmetrized.
+
+    Parameters
+    ----------
+    sc : LinearScenario or VectorScenario
+        The scenario (``N``, ``T``, ``F``, ``Q``, ``dynamics.P0``).
+    update : callable
+        ``update(t, Sigma)`` -> ``(A, W)``, see above.
+
+    Returns
+    -------
+    None
+        What is needed is recorded by ``update``.
     """
     N = sc.N
     ones = np.ones((N, N))
@@ -201,6 +283,11 @@ class LinearScenario(Scenario):
       propagated particle cloud; requires resampling at every step).
 
     The choices the paper leaves open are listed, with the value used, in :attr:`choices`.
+
+    Parameters
+    ----------
+    N, r, sigma2, T, x0, dt, h, P0, feedback_moments
+        The fields above (paper values by default; ``sigma2 = 0`` is deterministic motion).
     """
 
     N: int = 2
