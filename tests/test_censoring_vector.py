@@ -285,6 +285,18 @@ def test_singular_covariance_is_the_exact_degenerate_limit(mean, eta):
         float(cv.log_censored_probability(Li @ mean, Li @ cov @ Li, eta)), rel=1e-12, abs=0)
 
 
+def test_too_elongated_covariance_is_an_error_not_a_wrong_number():
+    """Between the singular limit (eigenvalue ratio <= 1e-12) and ratio 1e-6 the quadrature
+    does not resolve the ellipse (it returned -101 for a true -0.653 at ratio 1e-10): refused."""
+    assert float(cv.log_censored_probability([0.3, 0.2], np.diag([1.0, 1e-6]), 1.0)) == \
+        pytest.approx(-0.428670667024070, abs=1e-13)  # mpmath
+    for eps in (2e-7, 1e-10):
+        with pytest.raises(ValueError, match="^cov is too elongated"):
+            cv.log_censored_probability([0.0, 0.0], np.diag([1.0, eps]), 0.5)
+        with pytest.raises(ValueError, match="^R is too elongated"):
+            cv.log_silent_probability([0.0, 0.0], np.eye(2), np.diag([1.0, eps]), 0.5)
+
+
 def test_singular_covariance_sampled_and_refused_when_indefinite():
     cov = 2.0 * np.outer([0.6, 0.8], [0.6, 0.8])
     p = math.exp(cv.log_censored_probability([0.3, -0.2], cov, 1.0))
