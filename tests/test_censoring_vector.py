@@ -255,6 +255,98 @@ def test_scenario_validation(kwargs, word):
         cv.VectorScenario(**kwargs)
 
 
+@pytest.mark.parametrize("mean, eta", [((0.3, -0.2), 1.0), ((0.0, 0.0), 0.5), ((3.0, 1.0), 1.0),
+                                       ((-2.0, -1.0), 9.0)])
+def test_singular_covariance_is_the_exact_degenerate_limit(mean, eta):
+    """Issue 17 item 2: a rank-one cov = lam v v^T (q moves on a line) is a valid law, not an
+    error: P(q^T q < eta) = P(|z + w / sqrt(lam)| < sqrt((eta - |mean_perp|^2) / lam)) (0 if the
+    line misses the disc); cov = 0: 1 or 0 as the mean lies inside or not."""
+    v, lam = np.array([0.6, 0.8]), 2.0
+    cov = lam * np.outer(v, v)
+    mean = np.array(mean)
+    w = float(v @ mean)
+    rest = eta - (mean @ mean - w * w)
+    if rest > 0:
+        hw, c = mp.sqrt(rest / lam), w / mp.sqrt(lam)
+        ref = float(mp.log(mp.ncdf(hw - c) - mp.ncdf(-hw - c)))
+        assert float(cv.log_censored_probability(mean, cov, eta)) == pytest.approx(ref, rel=1e-13)
+    else:
+        assert cv.log_censored_probability(mean, cov, eta) == -np.inf
+    assert cv.log_censored_probability(mean, np.zeros((2, 2)), eta) == (
+        0.0 if mean @ mean < eta else -np.inf)
+    # a batch mixing singular and regular covariances: each as on its own
+    both = cv.log_censored_probability(mean, np.stack([cov, np.eye(2)]), eta)
+    assert both[0] == cv.log_censored_probability(mean, cov, eta)
+    assert both[1] == cv.log_censored_probability(mean, np.eye(2), eta)
+    # the silent factor with a singular R: the same law after whitening by S
+    S = np.diag([2.0, 3.0])
+    Li = np.diag(1 / np.sqrt([2.0, 3.0]))
+    assert cv.log_silent_probability(mean, S, cov, eta) == pytest.approx(
+        float(cv.log_censored_probability(Li @ mean, Li @ cov @ Li, eta)), rel=1e-12, abs=0)
+
+
+def test_too_elongated_covariance_is_an_error_not_a_wrong_number():
+    """Between the singular limit (eigenvalue ratio <= 1e-12) and ratio 1e-6 the quadrature
+    does not resolve the ellipse (it returned -101 for a true -0.653 at ratio 1e-10): refused."""
+    assert float(cv.log_censored_probability([0.3, 0.2], np.diag([1.0, 1e-6]), 1.0)) == \
+        pytest.approx(-0.428670667024070, abs=1e-13)  # mpmath
+    for eps in (2e-7, 1e-10):
+        with pytest.raises(ValueError, match="^cov is too elongated"):
+            cv.log_censored_probability([0.0, 0.0], np.diag([1.0, eps]), 0.5)
+        with pytest.raises(ValueError, match="^R is too elongated"):
+            cv.log_silent_probability([0.0, 0.0], np.eye(2), np.diag([1.0, eps]), 0.5)
+
+
+def test_singular_covariance_sampled_and_refused_when_indefinite():
+    cov = 2.0 * np.outer([0.6, 0.8], [0.6, 0.8])
+    p = math.exp(cv.log_censored_probability([0.3, -0.2], cov, 1.0))
+    est = cv.censored_probability_sampled(np.array([0.3, -0.2]), cov, 1.0, n_samples=4000,
+                                          rng=np.random.default_rng(5))
+    assert abs(est - p) < 4 * math.sqrt(p * (1 - p) / 4000)
+    with pytest.raises(ValueError, match="^cov must be positive semi-definite"):
+        cv.log_censored_probability([0.0, 0.0], [[1.0, 2.0], [2.0, 1.0]], 1.0)
+
+
+def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
+    """sigma2 = 0 (Q = 0) with a known start: the track is x0 moved at constant velocity, the
+    local filters know the state exactly (P_pred = 0) and every fusion centre's particles sit on
+    the true track, so the position error is 0 for every scheme and feedback."""
+    sc = cv.VectorScenario(sigma2=0.0, T=5)
+    assert sc.sigma2 == 0.0 and np.array_equal(sc.Q, np.zeros((2, 2)))
+    x, z = sc.sample(np.random.default_rng(1), 3)
+    truth = sc.x0[0] + sc.x0[1] * np.arange(sc.T + 1)
+    np.testing.assert_allclose(x[..., 0], np.broadcast_to(truth, x.shape[:-1]), rtol=0,
+                               atol=1e-12)
+    assert np.all(np.isfinite(z)) and np.all(sc.local_filters()["P_pred"] == 0.0)
+    runs = [(fb, scheme, {}) for fb in ("state", "state+cov", "none")
+            for scheme in ("all-send", "cfwmd", "cfomd", "random")]
+    runs += [("none", "cfwmd", {"likelihood": "printed"})]
+    for fb, scheme, kw in runs:
+        if fb == "none" and scheme == "cfwmd" and not kw:
+            kw = {"likelihood": "exact"}
+        rmse = cs.run(sc, scheme, l=1, n_trials=4, n_particles=20, seed=3, feedback=fb,
+                      **kw).rmse_position
+        assert np.all(np.isfinite(rmse.value)) and np.max(rmse.value) < 1e-9, (fb, scheme, kw)
+    # with an uncertain (even singular) start the filter stays finite
+    for P0 in (((1.0, 0.0), (0.0, 0.1)), ((1.0, 1.0), (1.0, 1.0))):
+        sc0 = cv.VectorScenario(sigma2=0.0, T=3, P0=P0)
+        rmse = cs.run(sc0, "cfwmd", l=1, n_trials=3, n_particles=30, seed=1).rmse_position
+        assert np.all(np.isfinite(rmse.value))
+
+
+@pytest.mark.parametrize("P0, word", [(((1.0, 0.0), (0.0, float("nan"))), "^P0: P0 must be finite"),
+                                      (((1.0, 2.0), (2.0, 1.0)), "^P0: P0 must be positive semi"),
+                                      (((1.0, 0.5), (0.0, 1.0)), "^P0: P0 must be symmetric")])
+def test_p0_is_checked_symmetric_psd(P0, word):
+    with pytest.raises(ValueError, match=word):
+        cv.VectorScenario(P0=P0)
+
+
+def test_singular_R_is_refused_with_the_reason():
+    with pytest.raises(ValueError, match="^R must be positive definite .*likelihood degenerate"):
+        cv.VectorScenario(R=((1.0, 1.0), (1.0, 1.0)))
+
+
 def test_local_filters_match_filterpy_and_the_cross_covariance():
     sc = cv.VectorScenario(P0=((1.0, 0.2), (0.2, 0.5)))
     lf = sc.local_filters()

@@ -443,6 +443,9 @@ def test_riccati_scalar_invariants(p, c, r, a, q):
         pinf = riccati.scalar_steady_state(a, q, c, r)
         assert np.isfinite(pinf) and pinf >= q * (1 - 1e-12)
         assert riccati.scalar_step(pinf, a, q, c, r) == pytest.approx(pinf, rel=1e-6, abs=1e-9)
+    else:  # no information and |a| >= 1: no steady state, a ValueError (never inf)
+        with pytest.raises(ValueError, match="^no steady state: c = 0"):
+            riccati.scalar_steady_state(a, q, c, r)
 
 
 @SETTINGS

@@ -27,6 +27,7 @@ NAN = float("nan")
 @pytest.mark.parametrize("call, match", [
     (lambda: riccati.scalar_update(1, NAN, 1), "^c must be finite"),  # was 0.0
     (lambda: riccati.scalar_steady_state(.5, 1, NAN, 1), "^c must be finite"),  # was 1.333
+    (lambda: riccati.scalar_steady_state(2.0, 1.0, 0.0, 1.0), "^no steady state: c = 0"),  # inf
     (lambda: fading.exp_e1(NAN), "^x must not be NaN"),  # was 0.0196
     (lambda: riccati.steady_state([[.5]], [[1.]], [[1.]], [[-1.]]),
      "^R must be positive semi-definite"),  # was [[-1.28]]

@@ -31,7 +31,11 @@ def test_scalar_steady_state_is_positive_fixed_point(a, q, c, r):
 
 def test_scalar_steady_state_without_measurements():
     assert riccati.scalar_steady_state(0.5, 1.0, 0.0, 1.0) == pytest.approx(1 / 0.75)
-    assert np.isinf(riccati.scalar_steady_state(1.5, 1.0, 0.0, 1.0))
+    for a in (1.5, 1.0, -1.0):  # no information and |a| >= 1: no steady state (never inf)
+        with pytest.raises(ValueError, match="^no steady state: c = 0"):
+            riccati.scalar_steady_state(a, 1.0, 0.0, 1.0)
+    with pytest.raises(ValueError, match="^no steady state"):  # one element of an array
+        riccati.scalar_steady_state(np.array([0.5, 2.0]), 1.0, 0.0, 1.0)
 
 
 def test_scalar_sequence_broadcasts_and_converges():

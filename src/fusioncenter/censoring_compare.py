@@ -586,10 +586,10 @@ def load_payoff(profile: str, seed: int | None = None) -> tuple[list[dict], dict
 
     Parameters
     ----------
-    profile : str
-        ``"fast"`` or ``"paper"``.
+    profile : {"fast", "paper"}
+        The registry profile the entries are computed with.
     seed : int, optional
-        Seed of every entry (default: each entry's own).
+        One seed for all of the entries; by default each entry keeps its own.
 
     Returns
     -------

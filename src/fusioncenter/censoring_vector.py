@@ -1,6 +1,7 @@
 """Compatibility module: the vector-observation censoring of zheng2014 Part IV(b) now lives in
 :mod:`fusioncenter.censoring.ellipse` (the silent probability), :mod:`fusioncenter.censoring.vector`
-(the scenario) and :mod:`fusioncenter.censoring.vector_fusion` (the fusion centre and ``run``);
+(the scenario), :mod:`fusioncenter.censoring.vector_likelihood` (Propositions 4-6) and
+:mod:`fusioncenter.censoring.vector_fusion` (the fusion centre and ``run``);
 this module re-exports their public names."""
 
 from __future__ import annotations
@@ -11,13 +12,10 @@ from fusioncenter.censoring.ellipse import (
     PROBABILITIES,
     SCHEMES,
     censored_probability,
-    censored_probability_sampled,
     eval_silent,
     grid_terms,
     log_canon,
     log_censored_probability,
-    log_likelihood_feedback,
-    log_likelihood_no_feedback_printed,
     log_silent_probability,
     log_silent_table,
 )
@@ -29,6 +27,11 @@ from fusioncenter.censoring.vector import (
     silent_covariance,
 )
 from fusioncenter.censoring.vector_fusion import run
+from fusioncenter.censoring.vector_likelihood import (
+    censored_probability_sampled,
+    log_likelihood_feedback,
+    log_likelihood_no_feedback_printed,
+)
 
 __all__ = [
     "SCHEMES", "FEEDBACK", "LIKELIHOODS", "PROBABILITIES", "log_censored_probability",

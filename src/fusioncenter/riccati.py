@@ -171,8 +171,8 @@ def scalar_steady_state(a, q, c, r):
     It is the positive root of ``c^2 p^2 + (r (1 - a^2) - q c^2) p - q r = 0`` (the stabilizing
     one). Limits: ``r = 0`` gives ``q`` (a noise-free measurement); ``q = 0`` gives 0 for
     ``|a| < 1`` and ``r (a^2 - 1) / c^2`` for ``|a| > 1``; ``c = 0`` (no information) gives
-    ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (else ``inf``: the variance diverges,
-    the only non-finite result). Where ``b^2``
+    ``q / (1 - a^2)``, which exists only for ``|a| < 1`` (for ``|a| >= 1`` the prediction
+    variance diverges and there is no steady state: ``ValueError``). Where ``b^2``
     of the quadratic overflows, the root is computed with ``hypot`` (``c^2 = 1e160`` gives
     ``q``, not inf).
 
@@ -186,14 +186,14 @@ def scalar_steady_state(a, q, c, r):
     Returns
     -------
     float or numpy.ndarray
-        The steady-state prediction variance(s), ``>= q``; finite except ``inf`` where
-        ``c = 0`` and ``|a| >= 1`` (no steady state: the variance diverges).
+        The steady-state prediction variance(s), ``>= q``, always finite.
 
     Raises
     ------
     ValueError
-        If an argument is NaN, infinite or (a variance) negative, or if the result overflows
-        (``c`` non-zero but ``c^2 / r`` below the float range with ``|a| >= 1``).
+        If an argument is NaN, infinite or (a variance) negative; if ``c = 0`` and
+        ``|a| >= 1`` (no steady state: the prediction variance diverges); or if the result
+        overflows (``c`` non-zero but ``c^2 / r`` below the float range with ``|a| >= 1``).
     """
     a = _v.finite("a", a)
     q = _nonneg("q", q)
@@ -232,11 +232,12 @@ def scalar_steady_state(a, q, c, r):
         if np.any((c2 == 0) & (c != 0) & (np.abs(a) >= 1)):
             raise ValueError("c is too small for |a| >= 1: the information c^2 / r is below "
                              "the float range and the steady-state variance overflows")
-        p = np.where(c2 > 0, p, np.where(np.abs(a) < 1, no_obs, np.inf))
-    # c = 0 with |a| >= 1 is the one documented infinite result (the variance diverges; the
-    # background chapter shows it); anything else that is not finite is an overflow
-    _v.finite_result("the steady-state variance", np.where((c == 0) & (np.abs(a) >= 1), 0.0, p),
-                     "an input is too large")
+        if np.any((c == 0) & (np.abs(a) >= 1)):
+            raise ValueError("no steady state: c = 0 (no information) and |a| >= 1: the "
+                             "prediction variance diverges")
+        p = np.where(c2 > 0, p, no_obs)
+    # anything else that is not finite is an overflow
+    _v.finite_result("the steady-state variance", p, "an input is too large")
     return _out(p)
 
 

@@ -85,6 +85,33 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     A :class:`fusioncenter.censoring_vector.VectorScenario` or a
     :class:`fusioncenter.censoring_nonlinear.NonlinearScenario` is handed to that module's
     ``run`` with the same arguments (Part IV(b)).
+
+    Parameters
+    ----------
+    scenario : LinearScenario, VectorScenario or NonlinearScenario
+        The model and its sizes.
+    scheme : str
+        One of :data:`SCHEMES`.
+    l : float
+        Target average number of sending sensors, ``0 < l <= N``.
+    n_trials, n_particles : int
+        Monte Carlo trials and particles per trial.
+    seed : int
+        Seed of the trials (the same seed pairs the trials of different schemes).
+    feedback : str, optional
+        One of :data:`FEEDBACK`.
+    ess_threshold : float, optional
+        Resample when ``ESS <= ess_threshold * n_particles``.
+    chunk_size, executor, progress, block_size : optional
+        How :func:`fusioncenter.montecarlo.simulate` splits and runs the trials (no effect on the
+        numbers).
+    likelihood : str, optional
+        One of :data:`LIKELIHOODS` (used by ``scheme="cfwmd"`` with ``feedback="none"``).
+
+    Returns
+    -------
+    CensoringResult
+        Per-trial squared errors and transmissions, with RMSE curves and their standard errors.
     """
     for cls, fn in ((vector.VectorScenario, vector_fusion.run),
                     (nonlinear.NonlinearScenario, nonlinear.run)):

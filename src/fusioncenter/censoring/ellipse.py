@@ -11,7 +11,8 @@ A silent sensor contributes ``P(nu^T S^{-1} nu < eta | x)`` to the full likeliho
 a *generalized* non-central chi-square (a weighted sum of non-central chi-squares with one degree
 of freedom each). The paper estimated it by sampling; here it is computed.
 
-This module: the vector silent probability and its tables, and the vector likelihoods.
+This module: the vector silent probability and its tables (the vector likelihoods are in
+:mod:`fusioncenter.censoring.vector_likelihood`).
 
 How the probability is computed. Diagonalize: with ``R = L L^T`` and ``L^T S^{-1} L =
 V diag(lambda) V^T``, the variable ``u = V^T L^{-1} nu`` is ``N(b, I)`` with ``b = V^T L^{-1} mu``
@@ -46,9 +47,9 @@ import numpy as np
 from scipy import special
 
 from fusioncenter._validate import finite as _finite
-from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring import scenarios
+from fusioncenter.censoring.checks import check_eta, check_pd, check_psd
 
 SCHEMES = scenarios.SCHEMES
 FEEDBACK = scenarios.FEEDBACK
@@ -65,28 +66,6 @@ _LOG_2PI = math.log(2.0 * math.pi)
 _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 
 
-# ----------------------------------------------------------------------------- validation
-def check_eta(value) -> float:
-    if isinstance(value, bool) or not np.isscalar(value) or not np.isfinite(value) or value < 0:
-        raise ValueError(f"eta must be a finite non-negative number, got {value!r}")
-    return float(value)
-
-
-def check_pd(name: str, value, m: int | None = None) -> np.ndarray:
-    """Symmetric positive-definite matrices ``(..., m, m)``."""
-    arr = _finite(name, value)
-    if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2] or (m is not None and arr.shape[-1] != m):
-        want = f"(..., {m}, {m})" if m is not None else "(..., m, m)"
-        raise ValueError(f"{name} must be square matrices {want}, got shape {arr.shape}")
-    scale = np.maximum(1.0, np.abs(arr).max(axis=(-1, -2), keepdims=True))
-    if np.any(np.abs(arr - np.swapaxes(arr, -1, -2)) > 1e-10 * scale):
-        raise ValueError(f"{name} must be symmetric")
-    arr = 0.5 * (arr + np.swapaxes(arr, -1, -2))
-    if np.any(np.linalg.eigvalsh(arr) <= 0):
-        raise ValueError(f"{name} must be positive definite (a covariance of full rank)")
-    return arr
-
-
 # ----------------------------------------------------------------------------- canonical form
 def canonical_map(S, R):
     """``(A_L, a_scale)`` with ``b = A_L @ nu_mean`` and ``a = sqrt(eta) * a_scale``.
@@ -95,6 +74,18 @@ def canonical_map(S, R):
     V diag(lam) V^T``: ``A_L = V^T L^{-1}`` (rows ordered so that ``a`` is ascending:
     ``lam`` descending) and ``a_scale = 1 / sqrt(lam)``. Then ``P(nu^T S^{-1} nu < eta)`` for
     ``nu ~ N(mu, R)`` equals ``P(sum_j u_j^2 / a_j^2 < 1)`` for ``u ~ N(A_L mu, I)``.
+
+    Parameters
+    ----------
+    S, R : numpy.ndarray
+        Positive-definite matrices ``(..., m, m)`` (broadcast together).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        ``A_L = V^T L^{-1}`` ``(..., m, m)``.
+    a_scale : numpy.ndarray
+        ``1 / sqrt(lam)`` ``(..., m)``, ascending.
     """
     L = np.linalg.cholesky(R)
     Linv = np.linalg.inv(L)
@@ -108,6 +99,18 @@ def canonical_map(S, R):
 
 @functools.cache
 def theta_rule(K: int):
+    """The ``K``-node Gauss-Legendre rule in ``theta`` on ``[-pi/2, pi/2]``.
+
+    Parameters
+    ----------
+    K : int
+        Number of Gauss-Legendre nodes.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(sin(theta_k), cos(theta_k), weights)`` of the rule on ``[-pi/2, pi/2]`` (cached).
+    """
     x, w = np.polynomial.legendre.leggauss(K)
     th = 0.5 * math.pi * x
     return np.sin(th), np.cos(th), 0.5 * math.pi * w
@@ -115,7 +118,18 @@ def theta_rule(K: int):
 
 def log_inside_1d(b, a):
     """``log P(|Z + b| < a)``, ``Z ~ N(0, 1)``:
-    :func:`fusioncenter.censoring.probability.log_prob_inside` (broadcast)."""
+    :func:`fusioncenter.censoring.probability.log_prob_inside` (broadcast).
+
+    Parameters
+    ----------
+    b, a : array_like
+        Offsets and half-widths (broadcast together).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log P(|Z + b| < a)``.
+    """
     b, a = np.broadcast_arrays(np.asarray(b, dtype=float), np.asarray(a, dtype=float))
     return cprob.log_prob_inside(b, a)
 
@@ -135,6 +149,24 @@ def log_canon(b1, b2, a1, a2, *, K: int = 64, zooms: int = 2, drop: float = 40.0
     nodes within ``e^-drop`` of the largest (plus one node each side): the integrand is
     unimodal, so the window holds its peak, and outside it the mass is below ``e^-drop`` of the
     total. Points whose window is already the whole interval are not zoomed.
+
+    Parameters
+    ----------
+    b1, b2 : array_like
+        Mean of ``u`` in canonical coordinates (broadcast with ``a1``, ``a2``).
+    a1, a2 : array_like
+        Semi-axes of the ellipse, ``> 0``.
+    K : int, optional
+        Gauss-Legendre nodes per pass.
+    zooms : int, optional
+        Passes on the narrowed window.
+    drop : float, optional
+        Width of the window in the log integrand.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log P``, shaped like the broadcast inputs.
     """
     b1, b2, a1, a2 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (b1, b2, a1, a2)))
     shape = b1.shape
@@ -204,45 +236,68 @@ def _log_in_ellipse(A, a_scale, mean, eta: float):
 def log_censored_probability(mean, cov, eta):
     """``log P(q^T q < eta)`` for ``q ~ N(mean, cov)``: the silent factor of Propositions 4-6.
 
-    ``mean (..., m)``, ``cov (..., m, m)`` positive definite (they broadcast), ``m`` in {1, 2},
+    ``mean (..., m)``, ``cov (..., m, m)`` positive semi-definite (they broadcast; a singular
+    ``cov`` is the exact limit :func:`fusioncenter.censoring.probability.log_inside_degenerate`,
+    ``-inf`` where the probability is 0), ``m`` in {1, 2},
     ``eta >= 0``. ``q^T q`` has a generalized non-central chi-square law; with
     ``cov = sigma^2 I`` it is ``sigma^2`` times a non-central chi-square with ``m`` degrees of
     freedom and non-centrality ``|mean|^2 / sigma^2`` (``scipy.stats.ncx2``). Computed by the
     quadrature of the module docstring: relative error ~1e-13 (checked against mpmath), finite
     however far the mean lies outside the disc. ``-inf`` if ``eta = 0``.
+
+    Parameters
+    ----------
+    mean : array_like
+        Means ``(..., m)`` of ``q``.
+    cov : array_like
+        Covariances ``(..., m, m)``, positive semi-definite (singular allowed).
+    eta : float
+        Threshold, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        ``log P(q^T q < eta)``, shape ``(...)``.
     """
     eta = check_eta(eta)
     mean = _means("mean", mean)
     m = mean.shape[-1]
-    cov = check_pd("cov", cov, m)
+    cov, singular = check_psd("cov", cov, m)
+    if singular.any():
+        return _split_singular(mean, cov, singular, eta, "cov")
     A, asc = canonical_map(np.broadcast_to(np.eye(m), cov.shape), cov)
-    return _log_in_ellipse(A, asc, mean, eta)
+    return _log_in_ellipse(A, _resolvable("cov", asc), mean, eta)
+
+
+def _split_singular(mean, cov, singular, eta, name):
+    """:func:`log_censored_probability` of checked arguments, some ``cov`` singular
+    (:func:`fusioncenter.censoring.probability.log_inside_degenerate` there)."""
+    shp = np.broadcast_shapes(mean.shape[:-1], cov.shape[:-2])
+    m = mean.shape[-1]
+    mean, cov = np.broadcast_to(mean, (*shp, m)), np.broadcast_to(cov, (*shp, m, m))
+    sing = np.broadcast_to(singular, shp)
+    out = np.empty(shp)
+    if not sing.all():
+        A, asc = canonical_map(np.broadcast_to(np.eye(m), cov[~sing].shape), cov[~sing])
+        out[~sing] = _log_in_ellipse(A, _resolvable(name, asc), mean[~sing], eta)
+    out[sing] = cprob.log_inside_degenerate(mean[sing], cov[sing], eta)
+    return out[()] if out.ndim == 0 else out
 
 
 def censored_probability(mean, cov, eta):
-    """``P(q^T q < eta)`` for ``q ~ N(mean, cov)`` (see :func:`log_censored_probability`)."""
+    """``P(q^T q < eta)`` for ``q ~ N(mean, cov)`` (see :func:`log_censored_probability`).
+
+    Parameters
+    ----------
+    mean, cov, eta
+        As in :func:`log_censored_probability`.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        ``P(q^T q < eta)`` in ``[0, 1]``.
+    """
     return np.exp(log_censored_probability(mean, cov, eta))
-
-
-def censored_probability_sampled(mean, cov, eta, *, n_samples: int, rng: np.random.Generator):
-    """The paper's estimate of ``P(q^T q < eta)``: the fraction of ``n_samples`` draws of
-    ``q ~ N(mean, cov)`` inside the disc (Section VII.B). Unbiased, standard error
-    ``sqrt(P (1 - P) / n_samples)``; ``0`` whenever no draw falls inside."""
-    eta = check_eta(eta)
-    n_samples = _posint("n_samples", n_samples)
-    mean = _finite("mean", mean)
-    if mean.ndim < 1:
-        raise ValueError("mean must have a last axis (the dimension m)")
-    m = mean.shape[-1]
-    cov = check_pd("cov", cov, m)
-    L = np.linalg.cholesky(cov)
-    shape = np.broadcast_shapes(mean.shape[:-1], cov.shape[:-2])
-    count = np.zeros(shape)
-    for _ in range(n_samples):  # one draw per point at a time: memory O(points)
-        y = rng.standard_normal((*shape, m))
-        q = mean + (L @ y[..., None])[..., 0]
-        count += (q * q).sum(axis=-1) < eta
-    return count / n_samples
 
 
 def log_silent_probability(mu, S, R, eta):
@@ -252,15 +307,53 @@ def log_silent_probability(mu, S, R, eta):
     state; ``S``: the covariance the sensor normalizes by (its own ``S_k^i`` for Proposition 4,
     ``S'^i_k`` for Proposition 5). Equal to :func:`log_censored_probability` of
     ``q = S^{-1/2} nu ~ N(S^{-1/2} mu, S^{-1/2} R S^{-1/2})`` (eqs. (35)-(38)).
+
+    Parameters
+    ----------
+    mu : array_like
+        Innovation means ``(..., m)`` given the state.
+    S : array_like
+        Normalizing covariances ``(..., m, m)``, positive definite.
+    R : array_like
+        Innovation covariances ``(..., m, m)`` given the state, positive semi-definite
+        (singular allowed: the exact degenerate limit).
+    eta : float
+        Threshold, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        ``log P(nu^T S^{-1} nu < eta)``, shape ``(...)``.
     """
     eta = check_eta(eta)
     mu = _means("mu", mu)
     m = mu.shape[-1]
     S = check_pd("S", S, m)
-    R = check_pd("R", R, m)
+    R, singular = check_psd("R", R, m)
     S, R = np.broadcast_arrays(S, R)
+    if singular.any():  # q = L^{-1} nu ~ N(L^{-1} mu, L^{-1} R L^{-T}), S = L L^T
+        Li = np.linalg.inv(np.linalg.cholesky(S))
+        cov = Li @ R @ np.swapaxes(Li, -1, -2)
+        cov, singular = check_psd("R", cov, m)
+        return _split_singular((Li @ mu[..., None])[..., 0], cov, singular, eta, "R")
     A, asc = canonical_map(S, R)
-    return _log_in_ellipse(A, asc, mu, eta)
+    return _log_in_ellipse(A, _resolvable("R", asc), mu, eta)
+
+
+#: Largest ratio of the canonical semi-axes the quadrature resolves to ~1e-13 (measured against
+#: mpmath: 1e-14 at 1800, 2e-10 at 3200, 1e-3 beyond 6000; a covariance eigenvalue ratio
+#: below 1e-12 is the exact singular limit instead).
+MAX_ELONGATION = 1e3
+
+
+def _resolvable(name: str, a_scale):
+    """``a_scale``, or ``ValueError`` naming ``name`` if the ellipse is too elongated."""
+    ratio = a_scale[..., -1] / a_scale[..., 0]
+    if np.any(ratio > MAX_ELONGATION):
+        raise ValueError(f"{name} is too elongated for the quadrature: semi-axis ratio "
+                         f"{float(np.max(ratio)):.3g} > {MAX_ELONGATION:g} (an eigenvalue ratio "
+                         "between 1e-12, treated as singular, and 1e-6)")
+    return a_scale
 
 
 # ----------------------------------------------------------------------------- fast tables
@@ -273,6 +366,20 @@ def grid_terms(g1, g2, a1, a2, K: int):
     phi(a_1 sin - b_1^g)`` and ``M_hk = Phi(a_2 cos - b_2^h) - Phi(-a_2 cos - b_2^h)`` (``cos``
     takes only ``K/2`` values: the nodes are symmetric); derivatives by differentiating ``N``
     and ``M`` (``phi`` terms), so everything is four matrix products.
+
+    Parameters
+    ----------
+    g1, g2 : numpy.ndarray
+        Grid abscissae ``(..., G1)`` and ordinates ``(..., G2)``.
+    a1, a2 : array_like
+        Semi-axes ``(...)``.
+    K : int
+        Quadrature nodes, even.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(f, f1, f2, f12)``, each ``(..., G1, G2)``.
     """
     s, c, w = theta_rule(K)
     a1, a2 = np.asarray(a1, dtype=float)[..., None], np.asarray(a2, dtype=float)[..., None]
@@ -362,6 +469,18 @@ class _PowerTable:
         return out
 
 
+def _hermite_basis(t):
+    """The cubic Hermite basis at ``t`` in ``[0, 1]``: ``A0`` (``A1 = 1 - A0``: the weights of
+    the values at 0 and 1) and ``D0``, ``D1`` (of the derivatives times the step)."""
+    u = 1.0 - t
+    D0 = u * u
+    A0 = (2.0 * t + 1.0) * D0
+    D0 *= t
+    D1 = t * t
+    D1 *= -u
+    return A0, D0, D1
+
+
 class _Hermite2D:
     """Bicubic Hermite interpolation of stacked 2-D tables (values and exact derivatives).
 
@@ -399,19 +518,8 @@ class _Hermite2D:
         i *= self.G2
         i += j
         k00 = i
-        # cubic Hermite basis: A0 + A1 = 1 (values at 0 and 1), D0, D1 (derivatives times h)
-        u1 = 1.0 - t1
-        D0 = u1 * u1
-        A0 = (2.0 * t1 + 1.0) * D0
-        D0 *= t1
-        D1 = t1 * t1
-        D1 *= -u1
-        u2 = 1.0 - t2
-        E0 = u2 * u2
-        B0 = (2.0 * t2 + 1.0) * E0
-        E0 *= t2
-        E1 = t2 * t2
-        E1 *= -u2
+        A0, D0, D1 = _hermite_basis(t1)
+        B0, E0, E1 = _hermite_basis(t2)
         out = None
         for dj in (0, 1):
             ka = k00 + dj if dj else k00
@@ -457,7 +565,20 @@ def _fixed_table(a1: float, a2: float) -> _PowerTable:
 
 def log_silent_table(b, a):
     """``log P`` at canonical points given as component arrays ``b = (b_1[, b_2])`` for one
-    ellipse ``a (m,)`` (table, exact where it does not reach)."""
+    ellipse ``a (m,)`` (table, exact where it does not reach).
+
+    Parameters
+    ----------
+    b : tuple of numpy.ndarray
+        ``(b_1,)`` or ``(b_1, b_2)``, arrays of one shape.
+    a : numpy.ndarray
+        Semi-axes ``(m,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log P`` at the points.
+    """
     if len(b) == 1:
         return log_inside_1d(b[0], a[0])
     return _fixed_table(float(a[0]), float(a[1]))(np.abs(b[0]), np.abs(b[1]))
@@ -471,6 +592,18 @@ def log_silent_per_trial(b, a):
     derivatives at ``G x G`` nodes, ``G`` the smallest of :data:`_TRIAL_SIZES` that makes the
     step at most ``_TRIAL_STEP`` (a trial's table depends only on its own particles). Trials
     spreading wider, or lying beyond ``|b| = 30``, use the accurate quadrature.
+
+    Parameters
+    ----------
+    b : tuple of numpy.ndarray
+        ``(b_1,)`` or ``(b_1, b_2)``, each ``(r, P)``.
+    a : numpy.ndarray
+        Semi-axes ``(r, m)``, one ellipse per trial.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log P`` ``(r, P)``.
     """
     if len(b) == 1:
         return log_inside_1d(b[0], a[:, :1])
@@ -506,7 +639,26 @@ def log_silent_per_trial(b, a):
 
 def eval_silent(b, a, *, probability: str = "table", rng=None, n_q: int = 0):
     """``log P`` at canonical points ``b (n, P, m)``; ``a`` is ``(m,)`` (one ellipse) or
-    ``(n, m)`` (one per trial). Sub-blocks of trials keep the arrays in cache."""
+    ``(n, m)`` (one per trial). Sub-blocks of trials keep the arrays in cache.
+
+    Parameters
+    ----------
+    b : numpy.ndarray
+        Canonical points ``(n, P, m)``.
+    a : numpy.ndarray
+        Semi-axes ``(m,)`` or ``(n, m)``.
+    probability : str, optional
+        One of :data:`PROBABILITIES`.
+    rng : numpy.random.Generator, optional
+        Source of the draws (``probability="sampled"``).
+    n_q : int, optional
+        Draws per particle (``probability="sampled"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log P`` ``(n, P)``.
+    """
     n, P, m = b.shape
     per_trial = a.ndim == 2
     if probability == "quadrature":
@@ -530,53 +682,3 @@ def eval_silent(b, a, *, probability: str = "table", rng=None, n_q: int = 0):
 
 #: Points per sub-block of the table evaluations (keeps the temporaries in cache).
 _SUB_POINTS = 1 << 13
-
-
-# ----------------------------------------------------------------------------- likelihoods
-def log_likelihood_feedback(sent, z, Hx, Hx_pred, S, R, eta):
-    """Propositions 4 and 5: ``log p(z_obs, m | x, xhat_{k|k-1})`` with feedback.
-
-    ``sum_{received} log N(z^i; H^i x, R^i) + sum_{silent} log P(nu^T S_i^{-1} nu < eta)`` with
-    ``nu ~ N(H^i (x - xhat), R^i)``. Shapes broadcast: ``sent (..., N)`` (bool), ``z``, ``Hx =
-    H^i x``, ``Hx_pred = H^i xhat_{k|k-1}``: ``(..., N, m)`` (``z`` is ignored where not sent),
-    ``S`` (the sensors' own ``S_k^i``: Proposition 4; ``S'^i_k`` from the fed-back covariance:
-    Proposition 5) and ``R``: ``(..., N, m, m)``. Returns ``(...)``.
-    """
-    sent = np.asarray(sent, dtype=bool)
-    Hx = _finite("Hx", Hx)
-    Hx_pred = _finite("Hx_pred", Hx_pred)
-    m = Hx.shape[-1]
-    S = check_pd("S", S, m)
-    R = check_pd("R", R, m)
-    eta = check_eta(eta)
-    z = np.where(sent[..., None], np.asarray(z, dtype=float), Hx)
-    recv = np.where(sent, _log_gauss_each(z, Hx, R), 0.0)
-    with np.errstate(invalid="ignore"):
-        sil = np.where(sent, 0.0, log_silent_probability(Hx - Hx_pred, S, R, eta))
-    return (recv + sil).sum(axis=-1)
-
-
-def _log_gauss_each(z, y, R):
-    """``log N(z_i; y_i, R_i)`` per sensor: ``z, y (..., N, m)``, ``R (..., N, m, m)``."""
-    L = np.linalg.cholesky(R)
-    d = np.linalg.solve(L, (z - y)[..., None])[..., 0]
-    m = z.shape[-1]
-    logdet = 2.0 * np.log(np.diagonal(L, axis1=-2, axis2=-1)).sum(axis=-1)
-    return -0.5 * (m * _LOG_2PI + logdet + (d * d).sum(axis=-1))
-
-
-def log_likelihood_no_feedback_printed(sent, z, Hx, R, log_all_silent):
-    """Proposition 6 as printed, under the paper's law (21): ``log p(m, z_obs | x)``.
-
-    With (21) the local prediction errors ``e^j = x - xhat^j`` are ``N(0, Sigma)`` independent
-    of ``x``, so ``t^j ~ N(S^{-1/2} H e^j, S^{-1/2} R S^{-1/2})`` of (40) has a law free of
-    ``x`` and the integral of the silent factors is the constant ``log_all_silent =
-    log P(all silent sensors' V_j^T S_j^{-1} V_j < eta)``, ``V_j = H e^j + n^j`` (see
-    :func:`log_all_silent`): only the received Gaussians depend on ``x`` -- the CFoMD weights.
-    """
-    sent = np.asarray(sent, dtype=bool)
-    Hx = _finite("Hx", Hx)
-    R = check_pd("R", R, Hx.shape[-1])
-    z = np.where(sent[..., None], np.asarray(z, dtype=float), Hx)
-    recv = np.where(sent, _log_gauss_each(z, Hx, R), 0.0).sum(axis=-1)
-    return recv + np.asarray(log_all_silent, dtype=float)

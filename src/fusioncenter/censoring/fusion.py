@@ -111,6 +111,17 @@ class ExactFusionCentre(ExactModel):
     components. If in a trial no particle satisfies the received sensors' constraints (rare: a
     few per thousand trial-steps with 250 particles), that step uses the weights without those
     indicators and is counted in ``relaxed`` (reported as ``CensoringResult.collapsed``).
+
+    Parameters
+    ----------
+    sc : LinearScenario
+        The scenario.
+    eta : float
+        Threshold.
+    z : numpy.ndarray
+        Measurements ``(n, T, N)``.
+    sent : numpy.ndarray
+        Who sent ``(n, T, N)``, bool.
     """
 
     def __init__(self, sc: LinearScenario, eta: float, z: np.ndarray, sent: np.ndarray):

@@ -51,6 +51,22 @@ def log_likelihood_feedback(sent, z, hx, hx_pred, s, r, eta):
     As a density on the outcomes it integrates to one: a sent ``z^i`` can only lie in the send
     region ``|z^i - h_i^T xhat| >= sqrt(eta s_i)``, where the printed ``[p(z^i | x)]^{m^i}`` is
     the density of ``(m^i = 1, z^i)`` (the indicator is 1 on every possible outcome).
+
+    Parameters
+    ----------
+    sent : array_like
+        Who sent, bool ``(..., N)``.
+    z, hx, hx_pred : array_like
+        Measurements, ``h_i^T x`` and ``h_i^T xhat_{k|k-1}``, ``(..., N)``.
+    s, r : array_like
+        Normalizing and noise variances ``(N,)`` (``r > 0``, ``s >= 0``).
+    eta : float
+        Threshold, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The log likelihood ``(...)``.
     """
     sent = np.asarray(sent, dtype=bool)
     hx = _finite("hx", hx)
@@ -78,6 +94,24 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
     * ``"corrected"``: the received sensors' conditions ``|U_i| >= a_i``,
       ``U_i = z^i - h_i^T x + eps_i``, are kept; a bivariate normal rectangle probability;
       ``N <= 2``. Sums to one.
+
+    Parameters
+    ----------
+    sent, z, hx : array_like
+        Who sent, the measurements and ``h_i^T x`` ``(..., N)``.
+    C : array_like
+        ``(N, N)``, as above.
+    r : array_like
+        Noise variances, ``> 0``.
+    eta : float
+        Threshold, ``>= 0``.
+    version : str, optional
+        ``"corrected"`` or ``"printed"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log p(m, z_obs | x)`` ``(...)``.
     """
     if version not in ("corrected", "printed"):
         raise ValueError(f"version must be 'corrected' or 'printed', got {version!r}")

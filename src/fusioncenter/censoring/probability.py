@@ -32,6 +32,20 @@ def threshold(l, N, dof: int = 1) -> float:
     If every sensor's normalized innovation squared is ``chi2_dof`` distributed, each sends with
     probability ``P(chi2_dof >= eta) = l / N``, so ``l`` of the ``N`` sensors send on average.
     ``l = N`` gives ``eta = 0`` (every sensor always sends). Requires ``0 < l <= N``.
+
+    Parameters
+    ----------
+    l : float
+        Target average number of sending sensors, ``0 < l <= N``.
+    N : int
+        Number of sensors.
+    dof : int, optional
+        Degrees of freedom (the measurement dimension ``m``).
+
+    Returns
+    -------
+    float
+        The threshold ``eta >= 0``.
     """
     N = _posint("N", N)
     dof = _posint("dof", dof)
@@ -203,6 +217,16 @@ def censored_probability(mu, s, r, eta):
     ufunc; ``r > 0``, ``s >= 0``, ``eta >= 0``. Computed without cancellation: see
     :func:`log_censored_probability` (the same two branches without the log). Underflows to 0
     only where the probability is below ~1e-308; use the log version there.
+
+    Parameters
+    ----------
+    mu, s, r, eta : array_like
+        As in :func:`log_censored_probability` (broadcast).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The probabilities, in ``[0, 1]``.
     """
     m, h = _censored_args(mu, s, r, eta)
     out = prob_inside(m, h, log=False)
@@ -218,6 +242,22 @@ def log_censored_probability(mu, s, r, eta):
     ``d = log(erfcx((m+h)/sqrt2)/erfcx(lo/sqrt2)) - 2 m h``; for a narrow interval off the mean
     (``h < 0.1``, ``m h < 0.1``) a Taylor series in ``h`` (see :func:`prob_inside`). Relative error
     ~1e-13 or better everywhere (checked against mpmath). ``-inf`` if ``eta s = 0``.
+
+    Parameters
+    ----------
+    mu : array_like
+        Innovation mean(s) given the state.
+    s : array_like
+        Innovation variance(s) the sensor normalizes by, ``>= 0``.
+    r : array_like
+        Innovation variance(s) given the state, ``> 0``.
+    eta : array_like
+        Threshold(s), ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The log probabilities (``<= 0``).
     """
     m, h = _censored_args(mu, s, r, eta)
     out = prob_inside(m, h, log=True)
@@ -445,6 +485,42 @@ def _rectangle(l1, u1, l2, u2, rho):
         logs = _log_rectangle_quadrature(l1[careful], u1[careful], l2[careful], u2[careful],
                                          rho[careful])
     return fast, careful, np.minimum(logs, 0.0)
+
+
+def log_inside_degenerate(mean, cov, eta):
+    """``log P(q^T q < eta)`` for ``q ~ N(mean, cov)`` with a singular ``cov`` (rank 0 or 1).
+
+    With ``cov = lam v v^T`` (``lam >= 0`` its largest eigenvalue) ``q = mean + sqrt(lam) v z``,
+    ``z ~ N(0, 1)``: the component of ``mean`` across ``v`` is fixed, so the event is
+    ``|z + w / sqrt(lam)| < sqrt((eta - |mean_perp|^2) / lam)``, ``w = v^T mean``
+    (:func:`log_prob_inside`; ``-inf`` if ``eta <= |mean_perp|^2``); ``cov = 0``: ``0`` or
+    ``-inf`` as ``|mean|^2 < eta`` or not. No validation.
+
+    Parameters
+    ----------
+    mean : numpy.ndarray
+        Means ``(k, m)``, ``m`` in {1, 2}.
+    cov : numpy.ndarray
+        Symmetric PSD matrices ``(k, m, m)`` of rank ``< m``.
+    eta : float
+        Threshold, ``>= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The log probabilities ``(k,)`` (``<= 0``, ``-inf`` where the probability is 0).
+    """
+    lam, V = np.linalg.eigh(cov)
+    lam1 = np.maximum(lam[:, -1], 0.0)
+    w = np.einsum("km,km->k", V[:, :, -1], mean)
+    mm = np.einsum("km,km->k", mean, mean)
+    rest = eta - np.where(lam1 > 0, np.maximum(mm - w * w, 0.0), mm)  # eta - |fixed part|^2
+    out = np.full(mean.shape[0], -np.inf)
+    line = (lam1 > 0) & (rest > 0)
+    sd = np.sqrt(lam1[line])
+    out[line] = log_prob_inside(w[line] / sd, np.sqrt(rest[line]) / sd)
+    out[(lam1 == 0) & (rest > 0)] = 0.0  # a point mass inside the disc
+    return out
 
 
 def log_region_probability(c, cov, a, outside):

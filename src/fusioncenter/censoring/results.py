@@ -66,7 +66,13 @@ def trial_columns(out: particle.FilterOutput, x_true: np.ndarray, sent: np.ndarr
 
 # ----------------------------------------------------------------------------- results
 class Curve(NamedTuple):
-    """A per-step estimate and its Monte Carlo standard error, both ``(T,)``."""
+    """A per-step estimate and its Monte Carlo standard error, both ``(T,)``.
+
+    Parameters
+    ----------
+    value, stderr : numpy.ndarray
+        The estimate and its standard error ``(T,)``.
+    """
 
     value: np.ndarray
     stderr: np.ndarray
@@ -74,7 +80,21 @@ class Curve(NamedTuple):
 
 @dataclass(frozen=True)
 class CensoringResult:
-    """Output of :func:`run`. ``mc.samples`` keeps every trial: ``(n_trials, T, d + 3)``."""
+    """Output of :func:`run`. ``mc.samples`` keeps every trial: ``(n_trials, T, d + 3)``.
+
+    Parameters
+    ----------
+    scenario : LinearScenario, VectorScenario or NonlinearScenario
+        The scenario that was run.
+    scheme, feedback, likelihood : str
+        The run's choices.
+    l, eta : float
+        Target number of senders and the threshold it gives.
+    n_particles : int
+        Particles per trial.
+    mc : fusioncenter.montecarlo.MonteCarloResult
+        The per-trial samples.
+    """
 
     scenario: LinearScenario
     scheme: str
@@ -182,6 +202,18 @@ def paired_difference(a: CensoringResult, b: CensoringResult,
     their trials share the truth and the measurements (see :func:`_chunk`), and the per-trial
     influence values ``sum_t sq_t / (2 T RMSE_t)`` of the two runs are differenced trial by
     trial (delta method), which removes most of the common Monte Carlo noise.
+
+    Parameters
+    ----------
+    a, b : CensoringResult
+        Two paired runs.
+    component : str, optional
+        ``"position"`` or ``"velocity"``.
+
+    Returns
+    -------
+    tuple of float
+        The difference of the time-averaged RMSEs and its standard error.
     """
     if (a.scenario != b.scenario or a.mc.seed != b.mc.seed or a.mc.n_trials != b.mc.n_trials
             or a.mc.block_size != b.mc.block_size):

@@ -10,7 +10,6 @@ import numpy as np
 
 from fusioncenter import particle
 from fusioncenter._validate import finite as _finite
-from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
 from fusioncenter.models import wna_model  # the tracking model, defined once (re-exported)
@@ -35,19 +34,92 @@ def _as_tuple(value):
 
 
 def nested_tuple(arr: np.ndarray):
-    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields)."""
+    """A float array (``ndim >= 1``) as nested tuples of floats (hashable dataclass fields).
+
+    Parameters
+    ----------
+    arr : numpy.ndarray
+        Floats, ``ndim >= 1``.
+
+    Returns
+    -------
+    tuple
+        Nested tuples of floats, one level per axis.
+    """
     return tuple(nested_tuple(a) for a in arr) if arr.ndim > 1 else tuple(float(v) for v in arr)
 
 
 def target_dynamics(F, Q, x0, P0) -> particle.LinearGaussianDynamics:
-    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``)."""
+    """The target's law; an invalid ``P0`` is reported as such (``"P0: ..."``).
+
+    Parameters
+    ----------
+    F, Q : array_like
+        Transition and process-noise covariance (PSD).
+    x0, P0 : array_like
+        Mean and covariance (PSD, singular allowed) of ``x_0``.
+
+    Returns
+    -------
+    fusioncenter.particle.LinearGaussianDynamics
+        The law of the target.
+    """
     try:
         return particle.LinearGaussianDynamics(F=F, Q=Q, m0=x0, P0=P0)
     except ValueError as err:
         raise ValueError(f"P0: {err}") from None
 
 
+def check_motion(N, T, dt, sigma2) -> tuple[int, int, float, float]:
+    """The fields every tracking scenario shares, validated.
+
+    Parameters
+    ----------
+    N : int
+        Number of sensors, a positive integer.
+    T : int
+        Number of measured time steps, a positive integer.
+    dt : float
+        Sampling interval, a positive number.
+    sigma2 : float
+        Process-noise intensity, ``>= 0`` (``0``: deterministic motion at constant velocity,
+        ``Q = 0`` is a valid covariance).
+
+    Returns
+    -------
+    tuple of (int, int, float, float)
+        ``(N, T, dt, sigma2)`` as Python numbers.
+
+    Raises
+    ------
+    ValueError
+        Naming the field that is not of the stated kind.
+    """
+    N = _posint("N", N)
+    T = _posint("T", T)
+    dt_ = _finite("dt", dt)
+    if dt_.ndim or dt_ <= 0:
+        raise ValueError(f"dt must be a positive number, got {dt!r}")
+    s2 = _finite("sigma2", sigma2)
+    if s2.ndim or s2 < 0:
+        raise ValueError(f"sigma2 must be a non-negative number (0: deterministic motion), "
+                         f"got {sigma2!r}")
+    return N, T, float(dt_), float(s2)
+
+
 def check_x0_pair(value) -> np.ndarray:
+    """The initial mean ``x0``: a finite ``[position, velocity]`` pair.
+
+    Parameters
+    ----------
+    value : array_like
+        The pair.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x0 (2,)``.
+    """
     x0 = _finite("x0", value)
     if x0.shape != (2,):
         raise ValueError(f"x0 must be a [position, velocity] pair, got {value!r}")
@@ -55,11 +127,34 @@ def check_x0_pair(value) -> np.ndarray:
 
 
 def check_feedback_moments(value) -> None:
+    """Check ``feedback_moments`` (``"analytic"`` or ``"particles"``; ``ValueError`` otherwise).
+
+    Parameters
+    ----------
+    value : str
+        The field's value.
+
+    Returns
+    -------
+    None
+    """
     if value not in ("analytic", "particles"):
         raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
 
 
 def time_axis_choice(T: int) -> str:
+    """The ``"time axis"`` entry of a scenario's ``choices``.
+
+    Parameters
+    ----------
+    T : int
+        Number of measured steps.
+
+    Returns
+    -------
+    str
+        The sentence.
+    """
     return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
             "transmissions are reported for t = 1..T")
 
@@ -84,6 +179,18 @@ def local_error_recursion(sc, update) -> None:
     and returns ``(A, W)`` (``2N x 2N``, block diagonal: ``I - w^i h_i^T`` and the gain times the
     noise covariance times the gain transposed), and ``Sigma_{t+1|t+1} = A Sigma A^T + W``. Both
     covariances are symmetrized.
+
+    Parameters
+    ----------
+    sc : LinearScenario or VectorScenario
+        The scenario (``N``, ``T``, ``F``, ``Q``, ``dynamics.P0``).
+    update : callable
+        ``update(t, Sigma)`` -> ``(A, W)``, see above.
+
+    Returns
+    -------
+    None
+        What is needed is recorded by ``update``.
     """
     N = sc.N
     ones = np.ones((N, N))
@@ -159,6 +266,11 @@ class LinearScenario(Scenario):
       propagated particle cloud; requires resampling at every step).
 
     The choices the paper leaves open are listed, with the value used, in :attr:`choices`.
+
+    Parameters
+    ----------
+    N, r, sigma2, T, x0, dt, h, P0, feedback_moments
+        The fields above (paper values by default; ``sigma2 = 0`` is deterministic motion).
     """
 
     N: int = 2
@@ -173,11 +285,7 @@ class LinearScenario(Scenario):
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        N = _posint("N", self.N)
-        _posint("T", self.T)
-        dt = float(_positive("dt", self.dt))
-        # sigma2 = 0 is deterministic motion (constant velocity): Q = 0 is a valid covariance
-        sigma2 = float(_nonneg("sigma2", self.sigma2))
+        N, _, dt, sigma2 = check_motion(self.N, self.T, self.dt, self.sigma2)
         r = _positive("r", self.r)
         if r.ndim > 1 or (r.ndim == 1 and r.shape != (N,)):
             raise ValueError(f"r must be a scalar or have one variance per sensor ({N},), "

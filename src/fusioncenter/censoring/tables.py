@@ -24,12 +24,25 @@ class LogTable:
     table holds the polynomial of degree ``degree`` (odd) through the ``degree + 1`` nodes
     around the interval (Horner form in ``x / step - j``). The interpolation error is about
     ``C step^(degree+1) max |f^(degree+1)|`` (``C = 0.014`` for cubics, ``0.005`` for quintics):
-    below ``1e-12`` in absolute value for the functions and steps used here (checked against
-    ``f`` itself in the tests), far below any Monte Carlo effect. The value at ``x`` depends only
+    below ``5e-12`` in absolute value for :func:`silent_table` and ``1e-10`` for
+    :func:`region_table`, except at the first step of the no-feedback filter with a known
+    ``x_0`` (large high derivatives: up to ``5e-8``; checked against ``f`` itself in the tests),
+    far below any Monte Carlo effect. The value at ``x`` depends only
     on ``f`` at the nodes around it, never on which other points are evaluated, so a trial's
     weights do not depend on the other trials. Outside ``|x| < 48`` and on intervals with a
     non-finite node, ``f`` is evaluated exactly. ``even=True``: ``f(-x) = f(x)``, tabulated on
     ``[0, 48)``.
+
+    Parameters
+    ----------
+    fn : callable
+        ``f``, elementwise on arrays.
+    even : bool
+        ``f(-x) = f(x)``: tabulate ``[0, 48)`` only.
+    step : float
+        Node spacing.
+    degree : int
+        Odd polynomial degree.
     """
 
     def __init__(self, fn, *, even: bool, step: float, degree: int):
@@ -168,7 +181,24 @@ def silent_table(h: float) -> LogTable:
 @functools.lru_cache(maxsize=256)
 def region_table(a: tuple, cov: tuple, outside: tuple, which: int) -> LogTable:
     """``c -> log P(region)`` of :func:`log_region_probability` with component ``which`` of the
-    mean at ``c`` and the others at 0 (Proposition 3 corrected, one sensor received)."""
+    mean at ``c`` and the others at 0 (Proposition 3 corrected, one sensor received).
+
+    Parameters
+    ----------
+    a : tuple of float
+        Half-widths ``(K,)``.
+    cov : tuple of tuple of float
+        Covariance ``(K, K)`` of ``W``.
+    outside : tuple of bool
+        Per component, outside (``True``) or inside.
+    which : int
+        The component whose mean is the table's argument.
+
+    Returns
+    -------
+    LogTable
+        The table of ``c -> log P(region)`` (cached).
+    """
     a_arr, cov_arr = np.array(a), np.array(cov)
 
     def fn(c):

@@ -21,13 +21,8 @@ from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring import scenarios
-from fusioncenter.censoring.ellipse import (
-    canonical_map,
-    check_eta,
-    check_pd,
-    log_silent_probability,
-    theta_rule,
-)
+from fusioncenter.censoring.checks import check_eta, check_pd
+from fusioncenter.censoring.ellipse import canonical_map, log_silent_probability, theta_rule
 
 
 # ----------------------------------------------------------------------------- the scenario
@@ -49,6 +44,12 @@ class VectorScenario(scenarios.Scenario):
     * ``P0``, ``feedback_moments``: as in :class:`fusioncenter.censoring.LinearScenario`.
 
     The choices the paper leaves open are listed, with the value used, in :attr:`choices`.
+
+    Parameters
+    ----------
+    N, R, H, sigma2, T, x0, dt, P0, feedback_moments
+        The fields above (paper values by default; ``sigma2 = 0`` is deterministic motion, ``P0``
+        may be singular, ``R`` must be positive definite).
     """
 
     N: int = 2
@@ -63,15 +64,7 @@ class VectorScenario(scenarios.Scenario):
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        N = _posint("N", self.N)
-        _posint("T", self.T)
-        dt = _finite("dt", self.dt)
-        if dt.ndim or dt <= 0:
-            raise ValueError(f"dt must be a positive number, got {self.dt!r}")
-        dt = float(dt)
-        sigma2 = _finite("sigma2", self.sigma2)
-        if sigma2.ndim or sigma2 <= 0:
-            raise ValueError(f"sigma2 must be a positive number, got {self.sigma2!r}")
+        N, _, dt, sigma2 = scenarios.check_motion(self.N, self.T, self.dt, self.sigma2)
         H = _finite("H", self.H)
         if H.ndim == 1:
             H = H[None, :]
@@ -90,7 +83,8 @@ class VectorScenario(scenarios.Scenario):
         if R.ndim not in (2, 3) or R.shape[-2:] != (m, m) or (R.ndim == 3 and R.shape[0] != N):
             raise ValueError(f"R must be ({m}, {m}) or one per sensor ({N}, {m}, {m}), "
                              f"got shape {R.shape}")
-        R = check_pd("R", R, m)
+        R = check_pd("R", R, m, why="a singular R makes the likelihood degenerate: the received "
+                     "measurements would have no density")
         x0 = scenarios.check_x0_pair(self.x0)
         scenarios.check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
@@ -251,6 +245,22 @@ def log_all_silent(cov, S, eta, *, K: int = 48) -> float:
     ``k = 2``: ``V_2 | V_1`` is Gaussian, so the probability is ``E[1{V_1 silent}
     P(V_2 silent | V_1)]``, a 2-D quadrature over the first ellipse (``K x K`` nodes) of the
     accurate conditional probability.
+
+    Parameters
+    ----------
+    cov : array_like
+        ``Cov(V) (k m, k m)``, positive definite.
+    S : array_like
+        ``(k, m, m)``, positive definite.
+    eta : float
+        Threshold, ``>= 0``.
+    K : int, optional
+        Quadrature nodes per axis (``k = 2``).
+
+    Returns
+    -------
+    float
+        The log probability.
     """
     eta = check_eta(eta)
     S = _finite("S", S)
@@ -278,6 +288,20 @@ def printed_mass(scenario: VectorScenario, l, t: int) -> float:
     send region depends on the unknown local prediction) and summing over the patterns ``m``
     gives ``sum_{silent sets A} P(every sensor of A silent)`` under (21)-(23): ``1 + P_1 + P_2 +
     P_12`` for ``N = 2``, ``P_j = 1 - l/N``; a likelihood would give 1.
+
+    Parameters
+    ----------
+    scenario : VectorScenario
+        With ``N <= 2``.
+    l : float
+        Target number of senders (sets ``eta``).
+    t : int
+        Step, ``1..T``.
+
+    Returns
+    -------
+    float
+        The total mass, ``> 1`` for the printed formula.
     """
     if not isinstance(scenario, VectorScenario):
         raise ValueError("scenario must be a VectorScenario")
@@ -302,7 +326,20 @@ def printed_mass(scenario: VectorScenario, l, t: int) -> float:
 def silent_covariance(sc: VectorScenario, Sigma: np.ndarray) -> np.ndarray:
     """``Cov(V) (N m, N m)`` of the sensors' own innovations ``V_j = H^j e^j + n^j`` under
     (21)-(23), from the joint local prediction-error covariance ``Sigma (2N, 2N)`` (one step of
-    ``VectorScenario.local_filters()["Sigma"]``)."""
+    ``VectorScenario.local_filters()["Sigma"]``).
+
+    Parameters
+    ----------
+    sc : VectorScenario
+        The scenario.
+    Sigma : numpy.ndarray
+        ``(2N, 2N)`` joint prediction-error covariance at one step.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``Cov(V) (N m, N m)``, symmetric.
+    """
     N, m = sc.N, sc.m
     Hb = np.zeros((N * m, 2 * N))
     for i in range(N):
@@ -317,7 +354,22 @@ def silent_covariance(sc: VectorScenario, Sigma: np.ndarray) -> np.ndarray:
 # ----------------------------------------------------------------------------- sensors
 def local_decisions(sc: VectorScenario, eta: float, z: np.ndarray) -> np.ndarray:
     """Without feedback: every sensor runs its own Kalman filter on its measurements ``z (n, T,
-    N, m)`` and sends when its NIS reaches ``eta``; returns ``sent (n, T, N)``."""
+    N, m)`` and sends when its NIS reaches ``eta``; returns ``sent (n, T, N)``.
+
+    Parameters
+    ----------
+    sc : VectorScenario
+        The scenario.
+    eta : float
+        Threshold.
+    z : numpy.ndarray
+        Measurements ``(n, T, N, m)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``sent (n, T, N)``, bool.
+    """
     lf = sc.local_filters()
     F, H = sc.F, sc.Hs
     n, T, N, m = z.shape
@@ -332,6 +384,17 @@ def local_decisions(sc: VectorScenario, eta: float, z: np.ndarray) -> np.ndarray
 
 
 def whitening(R):
-    """``(Linv, logdet)`` with ``R = L L^T``: ``|Linv d|^2 = d^T R^{-1} d``."""
+    """``(Linv, logdet)`` with ``R = L L^T``: ``|Linv d|^2 = d^T R^{-1} d``.
+
+    Parameters
+    ----------
+    R : numpy.ndarray
+        Positive-definite ``(..., m, m)``.
+
+    Returns
+    -------
+    tuple
+        ``Linv (..., m, m)`` and ``log det R`` (float).
+    """
     L = np.linalg.cholesky(R)
     return np.linalg.inv(L), 2.0 * float(np.log(np.diag(L)).sum())

@@ -553,6 +553,26 @@ def run(scenario: VectorScenario, scheme: str, *, l, n_trials: int, n_particles:
     Runs through :func:`fusioncenter.montecarlo.simulate`: results are bitwise identical for any
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
     ``n_trials`` and ``block_size``.
+
+    Parameters
+    ----------
+    scenario : VectorScenario
+        The model.
+    scheme, l, n_trials, n_particles, seed, feedback, ess_threshold : optional
+        As in :func:`fusioncenter.censoring.run`.
+    chunk_size, executor, progress, block_size : optional
+        As there (execution only).
+    likelihood : str, optional
+        ``"exact"`` or ``"printed"`` (see above).
+    probability : str, optional
+        One of :data:`PROBABILITIES`.
+    n_q : int, optional
+        Draws per particle for ``probability="sampled"``.
+
+    Returns
+    -------
+    CensoringResult
+        As :func:`fusioncenter.censoring.run` returns.
     """
     if not isinstance(scenario, VectorScenario):
         raise ValueError("scenario must be a VectorScenario")
