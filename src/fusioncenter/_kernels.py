@@ -29,9 +29,9 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-__all__ = ["amplitudes", "hermite_rows", "linear_transition", "propagate_wna", "received_terms",
-           "sensor_terms", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments"]
+__all__ = ["amplitudes", "exp_moments", "hermite_rows", "linear_transition", "propagate_wna",
+           "received_terms", "sensor_terms", "systematic_ancestors", "table_shifted",
+           "take_rows", "weighted_moments"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -74,6 +74,41 @@ def weighted_moments(w, x, S, mean, ess):
         for j in range(d):
             mean[b, j] = acc[j] / s
         ess[b] = s * s / s2
+
+
+@numba.njit(cache=True, nogil=True)
+def exp_moments(lw, mx, x, S, mean, ess):
+    """``lw <- exp(lw - mx[b])`` in place, row by row, then :func:`weighted_moments` of the
+    weights on the fly, in one pass (the elementwise arithmetic of ``lw -= mx[:, None]``,
+    ``numpy.exp``, then the sequential sums). ``math.exp`` is the C library's ``exp``, which is
+    what ``numpy.exp`` computes for float64 on an x86-64 without AVX-512 (checked bit for bit in
+    ``tests/test_kernels.py``)."""
+    m, P = lw.shape
+    d = x.shape[2]
+    if d == 2:
+        for b in range(m):
+            mb = mx[b]
+            s = 0.0
+            s0 = 0.0
+            s1 = 0.0
+            s2 = 0.0
+            for i in range(P):
+                wi = math.exp(lw[b, i] - mb)
+                lw[b, i] = wi
+                s += wi
+                s0 += wi * x[b, i, 0]
+                s1 += wi * x[b, i, 1]
+                s2 += wi * wi
+            S[b] = s
+            mean[b, 0] = s0 / s
+            mean[b, 1] = s1 / s
+            ess[b] = s * s / s2
+        return
+    for b in range(m):
+        mb = mx[b]
+        for i in range(P):
+            lw[b, i] = math.exp(lw[b, i] - mb)
+    weighted_moments(lw, x, S, mean, ess)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -165,6 +200,26 @@ def _fma(typingctx, a, b, c):
 
 
 @numba.njit(cache=True, nogil=True)
+def _row_4_2(x0, x1, x2, x3, g0, g1, F, L, j):
+    acc = _fma(x3, F[j, 3], _fma(x2, F[j, 2], _fma(x1, F[j, 1], x0 * F[j, 0])))
+    return acc + _fma(g1, L[j, 1], g0 * L[j, 0])
+
+
+@numba.njit(cache=True, nogil=True)
+def _transition_4_2(x, F, g, L, out):
+    """:func:`linear_transition` written out for ``d = 4``, ``k = 2`` (the same arithmetic)."""
+    n, P = x.shape[0], x.shape[1]
+    for b in range(n):
+        for p in range(P):
+            x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
+            g0, g1 = g[b, p, 0], g[b, p, 1]
+            out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
+            out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
+            out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
+            out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
+
+
+@numba.njit(cache=True, nogil=True)
 def linear_transition(x, F, g, L, out):
     """``out = x @ F.T + g @ L.T`` for C-contiguous ``x (n, P, d)`` and ``g (n, P, k)``, with
     the arithmetic of the BLAS ``dgemm`` that NumPy's ``matmul`` calls for each trial's
@@ -174,6 +229,9 @@ def linear_transition(x, F, g, L, out):
     matrices, so a machine whose BLAS sums otherwise fails there."""
     n, P, d = x.shape
     k = g.shape[2]
+    if d == 4 and k == 2:  # the nonlinear model's (white-noise acceleration in x and y)
+        _transition_4_2(x, F, g, L, out)
+        return
     for b in range(n):
         for p in range(P):
             for j in range(d):
