@@ -226,3 +226,12 @@ def test_exp_moments_kernel_is_bitwise_numpy(d):
     np.testing.assert_array_equal(got, want)
     for a, b in zip(*outs, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("N", [1, 2, 9, 20])
+@pytest.mark.parametrize("P", [2, 7, 300, 10000])
+def test_sum_sensors_kernel_is_bitwise_numpy(N, P):
+    amp = np.random.default_rng(N * P).standard_normal((3, N, P)) * 10.0 ** np.arange(N)[:, None]
+    out = np.empty((3, P))
+    _kernels.sum_sensors(amp, out)
+    np.testing.assert_array_equal(out, amp.sum(axis=1))

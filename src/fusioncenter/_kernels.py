@@ -30,7 +30,7 @@ from numba import types
 from numba.extending import intrinsic
 
 __all__ = ["amplitudes", "exp_moments", "hermite_rows", "linear_transition", "propagate_wna",
-           "received_terms", "sensor_terms", "systematic_ancestors", "table_shifted",
+           "received_terms", "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted",
            "take_rows", "weighted_moments"]
 
 
@@ -385,6 +385,20 @@ def sensor_terms(amp, sent, z, cr, hxp, sd, amax):
                     if a > m:
                         m = a
                 amax[b, i] = m
+
+
+@numba.njit(cache=True, nogil=True)
+def sum_sensors(amp, out):
+    """``out[b, p] = amp[b, 0, p] + amp[b, 1, p] + ...`` in this order: ``amp.sum(axis=1)``
+    of a C-contiguous ``(n, N, P)`` array with ``P >= 2`` (NumPy then adds the sensors' rows
+    one after another)."""
+    n, N, P = amp.shape
+    for b in range(n):
+        for p in range(P):
+            out[b, p] = amp[b, 0, p]
+        for i in range(1, N):
+            for p in range(P):
+                out[b, p] = out[b, p] + amp[b, i, p]
 
 
 @numba.njit(cache=True, nogil=True)

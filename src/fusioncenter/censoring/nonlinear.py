@@ -555,7 +555,11 @@ class _FusionCentre(fusion.ReferenceFC):
         if not sent.all():
             rb, ri = np.nonzero(~sent)
             _silent_rows(amp, rb, ri, amax[rb, ri], self.hh[rb, ri])
-        return amp.sum(axis=1)
+        if amp.shape[2] < 2:
+            return amp.sum(axis=1)
+        out = np.empty((amp.shape[0], amp.shape[2]))
+        _kernels.sum_sensors(amp, out)  # amp.sum(axis=1), one pass
+        return out
 
     def _received_only(self, k: int, x: np.ndarray) -> np.ndarray:
         """``sum_{received} log N(z^i; h^i(x), r_i)`` computing ``h^i`` only where needed
