@@ -35,28 +35,35 @@ __all__ = ["amplitudes", "exp_moments", "hermite_rows", "linear_transition", "pr
 
 
 @numba.njit(cache=True, nogil=True)
+def _moments_row2(w, x, b, S, mean, ess):
+    """:func:`weighted_moments` of row ``b`` for ``d = 2``, written out (twice as fast as the
+    general loop)."""
+    s = 0.0
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for i in range(w.shape[1]):
+        wi = w[b, i]
+        s += wi
+        s0 += wi * x[b, i, 0]
+        s1 += wi * x[b, i, 1]
+        s2 += wi * wi
+    S[b] = s
+    mean[b, 0] = s0 / s
+    mean[b, 1] = s1 / s
+    ess[b] = s * s / s2
+
+
+@numba.njit(cache=True, nogil=True)
 def weighted_moments(w, x, S, mean, ess):
     """Per row ``b`` of the (unnormalized) weights ``w (m, P)`` and particles ``x (m, P, d)``:
     ``S[b] = sum_i w[b, i]``, the weighted means ``mean[b, j] = sum_i w[b, i] x[b, i, j] / S[b]``
     and ``ess[b] = S[b]^2 / sum_i w[b, i]^2``, in one sequential pass over the particles."""
     m, P = w.shape
     d = x.shape[2]
-    if d == 2:  # the common case, written out (twice as fast as the general loop)
+    if d == 2:  # the common case
         for b in range(m):
-            s = 0.0
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            for i in range(P):
-                wi = w[b, i]
-                s += wi
-                s0 += wi * x[b, i, 0]
-                s1 += wi * x[b, i, 1]
-                s2 += wi * wi
-            S[b] = s
-            mean[b, 0] = s0 / s
-            mean[b, 1] = s1 / s
-            ess[b] = s * s / s2
+            _moments_row2(w, x, b, S, mean, ess)
         return
     acc = np.empty(d)
     for b in range(m):
@@ -78,37 +85,21 @@ def weighted_moments(w, x, S, mean, ess):
 
 @numba.njit(cache=True, nogil=True)
 def exp_moments(lw, mx, x, S, mean, ess):
-    """``lw <- exp(lw - mx[b])`` in place, row by row, then :func:`weighted_moments` of the
-    weights on the fly, in one pass (the elementwise arithmetic of ``lw -= mx[:, None]``,
-    ``numpy.exp``, then the sequential sums). ``math.exp`` is the C library's ``exp``, which is
-    what ``numpy.exp`` computes for float64 on an x86-64 without AVX-512 (checked bit for bit in
-    ``tests/test_kernels.py``)."""
+    """``lw <- exp(lw - mx[b])`` in place, then :func:`weighted_moments` of these weights, row
+    by row while the row is in cache (the elementwise arithmetic of ``lw -= mx[:, None]`` and
+    ``numpy.exp``, then the same sequential sums). ``math.exp`` is the C library's ``exp``,
+    which is what ``numpy.exp`` computes for float64 on an x86-64 without AVX-512 (checked bit
+    for bit in ``tests/test_kernels.py``)."""
     m, P = lw.shape
     d = x.shape[2]
-    if d == 2:
-        for b in range(m):
-            mb = mx[b]
-            s = 0.0
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            for i in range(P):
-                wi = math.exp(lw[b, i] - mb)
-                lw[b, i] = wi
-                s += wi
-                s0 += wi * x[b, i, 0]
-                s1 += wi * x[b, i, 1]
-                s2 += wi * wi
-            S[b] = s
-            mean[b, 0] = s0 / s
-            mean[b, 1] = s1 / s
-            ess[b] = s * s / s2
-        return
     for b in range(m):
         mb = mx[b]
         for i in range(P):
             lw[b, i] = math.exp(lw[b, i] - mb)
-    weighted_moments(lw, x, S, mean, ess)
+        if d == 2:
+            _moments_row2(lw, x, b, S, mean, ess)
+    if d != 2:
+        weighted_moments(lw, x, S, mean, ess)
 
 
 @numba.njit(cache=True, nogil=True)
