@@ -207,27 +207,6 @@ def test_nonlinear_kernels_equal_numpy(alpha):
     np.testing.assert_array_equal(amax[~sent], off[~sent].max(axis=1))
 
 
-@pytest.mark.parametrize("d", [1, 2, 3])
-def test_exp_moments_kernel_is_bitwise_numpy(d):
-    """``lw - mx``, ``numpy.exp`` and :func:`weighted_moments` against the fused kernel, bit
-    for bit (``math.exp`` in Numba and ``numpy.exp`` are the same function here)."""
-    rng = np.random.default_rng(d)
-    m, P = 64, 500
-    lw = rng.standard_normal((m, P)) * np.array([1, 10, 100, 700])[rng.integers(0, 4, m)][:, None]
-    lw[0] = -np.inf
-    lw[0, 3] = 0.0
-    mx = lw.max(axis=1)
-    x = rng.standard_normal((m, P, d))
-    want = np.exp(lw - mx[:, None])
-    outs = [(np.empty(m), np.empty((m, d)), np.empty(m)) for _ in range(2)]
-    _kernels.weighted_moments(want, x, *outs[0])
-    got = lw.copy()
-    _kernels.exp_moments(got, mx, x, *outs[1])
-    np.testing.assert_array_equal(got, want)
-    for a, b in zip(*outs, strict=True):
-        np.testing.assert_array_equal(a, b)
-
-
 @pytest.mark.parametrize("N", [1, 2, 9, 20])
 @pytest.mark.parametrize("P", [2, 7, 300, 10000])
 def test_sum_sensors_kernel_is_bitwise_numpy(N, P):

@@ -29,7 +29,7 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-__all__ = ["amplitudes", "exp_moments", "hermite_rows", "linear_transition", "propagate_wna",
+__all__ = ["amplitudes", "hermite_rows", "linear_transition", "propagate_wna",
            "received_terms", "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted",
            "take_rows", "weighted_moments"]
 
@@ -81,25 +81,6 @@ def weighted_moments(w, x, S, mean, ess):
         for j in range(d):
             mean[b, j] = acc[j] / s
         ess[b] = s * s / s2
-
-
-@numba.njit(cache=True, nogil=True)
-def exp_moments(lw, mx, x, S, mean, ess):
-    """``lw <- exp(lw - mx[b])`` in place, then :func:`weighted_moments` of these weights, row
-    by row while the row is in cache (the elementwise arithmetic of ``lw -= mx[:, None]`` and
-    ``numpy.exp``, then the same sequential sums). ``math.exp`` is the C library's ``exp``,
-    which is what ``numpy.exp`` computes for float64 on an x86-64 without AVX-512 (checked bit
-    for bit in ``tests/test_kernels.py``)."""
-    m, P = lw.shape
-    d = x.shape[2]
-    for b in range(m):
-        mb = mx[b]
-        for i in range(P):
-            lw[b, i] = math.exp(lw[b, i] - mb)
-        if d == 2:
-            _moments_row2(lw, x, b, S, mean, ess)
-    if d != 2:
-        weighted_moments(lw, x, S, mean, ess)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -367,7 +367,7 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
 
     The hot pieces are compiled (:mod:`fusioncenter._kernels`): after subtracting each trial's
     maximum log weight and exponentiating, one pass per trial gives the weight sum, the weighted
-    means and the ESS (:func:`fusioncenter._kernels.exp_moments`), and one more the
+    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more the
     systematic-resampling ancestors (:func:`fusioncenter._kernels.systematic_ancestors`) and the
     gather (:func:`fusioncenter._kernels.take_rows`). Everything is row by row: a trial's result
     does not depend on the other trials of the batch. A trial whose weights are all zero (no
@@ -444,8 +444,9 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
         if dead.any():
             lw[dead] = 0.0
             mx[dead] = 0.0
-        _kernels.exp_moments(lw, mx, x, S, mean, ess_b)  # lw <- exp(lw - mx), in place
-        w = lw
+        lw -= mx[:, None]
+        w = np.exp(lw, out=lw)
+        _kernels.weighted_moments(w, x, S, mean, ess_b)
         collapsed[:, t - 1] = dead
         inc = np.log(S)
         inc += mx
