@@ -124,3 +124,93 @@ def test_propagate_kernel_equals_numpy(dt, k):
     assert np.array_equal(y[..., 0], p) and np.array_equal(y[..., 1], v)
     F = np.array([[1.0, dt], [0.0, 1.0]])
     np.testing.assert_allclose(y, x @ F.T + g @ L.T, rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("d,k", [(2, 0), (2, 1), (4, 2), (4, 4), (6, 3)])
+@pytest.mark.parametrize("P", [2, 7, 1000])
+def test_linear_transition_kernel_is_bitwise_matmul(d, k, P):
+    """``x @ F.T + g @ L.T`` through BLAS ``dgemm`` (the arithmetic the kernel reproduces),
+    dense random matrices: bit for bit. (With one particle NumPy calls ``dgemv`` instead, and
+    :meth:`fusioncenter.particle.LinearGaussianDynamics.transition` keeps ``matmul``.)"""
+    rng = np.random.default_rng(d * 100 + k * 10 + P)
+    x = rng.standard_normal((3, P, d)) * 10
+    g = rng.standard_normal((3, P, k))
+    F = rng.standard_normal((d, d))
+    L = rng.standard_normal((d, k))
+    want = x @ F.T
+    if k:
+        want += g @ L.T
+    got = np.empty_like(x)
+    _kernels.linear_transition(x, F, g, L, got)
+    np.testing.assert_array_equal(got, want)
+
+
+def test_linear_gaussian_transition_draws_and_values_unchanged():
+    """The compiled branch of ``LinearGaussianDynamics.transition`` equals the NumPy one."""
+    dt = 0.3
+    F = np.kron(np.eye(2), [[1.0, dt], [0.0, 1.0]])
+    Q = np.kron(np.eye(2), [[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]) * 0.1
+    dyn = particle.LinearGaussianDynamics(F, Q, np.zeros(4), np.eye(4))
+    x = np.random.default_rng(1).standard_normal((4, 50, 4))
+    got = dyn.transition(np.random.default_rng(2), 1, x)
+    rng = np.random.default_rng(2)
+    want = x @ F.T + rng.standard_normal((4, 50, dyn._LQ.shape[1])) @ dyn._LQ.T
+    np.testing.assert_array_equal(got, want)
+    for xs in (x[:, ::2], x[:, :1]):  # not contiguous, one particle: NumPy's matmul
+        rng = np.random.default_rng(2)
+        want = xs @ F.T + rng.standard_normal((*xs.shape[:2], dyn._LQ.shape[1])) @ dyn._LQ.T
+        got = dyn.transition(np.random.default_rng(2), 1, xs)
+        np.testing.assert_array_equal(got, want)
+
+
+def _numpy_amplitudes(x, pos, alpha, power):
+    diff = np.stack([x[..., 0], x[..., 2]], axis=-1)[:, None] - pos[:, None, :]
+    d2 = np.square(diff[..., 0]) + np.square(diff[..., 1])
+    if alpha != 1.0:
+        d2 *= alpha
+    return np.sqrt(power / (d2 + 1.0))
+
+
+@pytest.mark.parametrize("alpha", [1.0, 0.3])
+def test_nonlinear_kernels_equal_numpy(alpha):
+    rng = np.random.default_rng(5)
+    n, N, P = 4, 9, 300
+    x = rng.standard_normal((n, P, 4)) * 10
+    pos = rng.uniform(-10, 10, (N, 2))
+    amp = np.empty((n, N, P))
+    _kernels.amplitudes(x, pos, alpha, 1e3, amp)
+    want = _numpy_amplitudes(x, pos, alpha, 1e3)
+    np.testing.assert_array_equal(amp, want)
+    sent = rng.random((n, N)) < 0.4
+    sent[0] = False
+    sent[1] = True
+    z = rng.standard_normal((n, N)) + 5
+    r = rng.uniform(0.5, 2, N)
+    # received only: numpy.add.reduceat over the received sensors (first + pairwise rest)
+    out = np.empty((n, P))
+    _kernels.received_terms(x, pos, alpha, 1e3, sent, z, -0.5 / r, out)
+    e = (want - z[..., None]) ** 2 * (-0.5 / r)[:, None]
+    b, i = np.nonzero(sent)
+    ref = np.zeros((n, P))
+    rows, start = np.unique(b, return_index=True)
+    ref[rows] = np.add.reduceat(e[b, i], start, axis=0)
+    np.testing.assert_array_equal(out, ref)
+    # received and silent terms in place
+    hxp = rng.uniform(0, 10, (n, N))
+    sd = np.sqrt(r)
+    amax = np.full((n, N), np.nan)
+    got = amp.copy()
+    _kernels.sensor_terms(got, sent, z, -0.5 / r, hxp, sd, amax)
+    off = np.abs(want - hxp[..., None]) / sd[:, None]
+    np.testing.assert_array_equal(got[sent], e[sent])
+    np.testing.assert_array_equal(got[~sent], off[~sent])
+    np.testing.assert_array_equal(amax[~sent], off[~sent].max(axis=1))
+
+
+@pytest.mark.parametrize("N", [1, 2, 9, 20])
+@pytest.mark.parametrize("P", [2, 7, 300, 10000])
+def test_sum_sensors_kernel_is_bitwise_numpy(N, P):
+    amp = np.random.default_rng(N * P).standard_normal((3, N, P)) * 10.0 ** np.arange(N)[:, None]
+    out = np.empty((3, P))
+    _kernels.sum_sensors(amp, out)
+    np.testing.assert_array_equal(out, amp.sum(axis=1))

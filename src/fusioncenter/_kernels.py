@@ -1,6 +1,8 @@
 """Compiled inner loops of the particle filter :func:`fusioncenter.particle.run_filter` and of
 its fusion-centre models (:class:`fusioncenter.censoring.LinearFusionCentre`, the vector
-observations' model in :mod:`fusioncenter.censoring_vector`).
+observations' model in :mod:`fusioncenter.censoring_vector`, the nonlinear model's amplitudes
+and silent factors in :mod:`fusioncenter.censoring.nonlinear`), and the linear-Gaussian
+transition of :class:`fusioncenter.particle.LinearGaussianDynamics`.
 
 Once the weights of a step are known, NumPy needs about a dozen passes over the
 ``(trials, particles)`` arrays for what a particle filter does with them: three weighted sums
@@ -24,9 +26,32 @@ import math
 
 import numba
 import numpy as np
+from numba import types
+from numba.extending import intrinsic
 
-__all__ = ["propagate_wna", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments"]
+__all__ = ["amplitudes", "hermite_rows", "linear_transition", "propagate_wna",
+           "received_terms", "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted",
+           "take_rows", "weighted_moments"]
+
+
+@numba.njit(cache=True, nogil=True)
+def _moments_row2(w, x, b, S, mean, ess):
+    """:func:`weighted_moments` of row ``b`` for ``d = 2``, written out (twice as fast as the
+    general loop)."""
+    s = 0.0
+    s0 = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for i in range(w.shape[1]):
+        wi = w[b, i]
+        s += wi
+        s0 += wi * x[b, i, 0]
+        s1 += wi * x[b, i, 1]
+        s2 += wi * wi
+    S[b] = s
+    mean[b, 0] = s0 / s
+    mean[b, 1] = s1 / s
+    ess[b] = s * s / s2
 
 
 @numba.njit(cache=True, nogil=True)
@@ -36,22 +61,9 @@ def weighted_moments(w, x, S, mean, ess):
     and ``ess[b] = S[b]^2 / sum_i w[b, i]^2``, in one sequential pass over the particles."""
     m, P = w.shape
     d = x.shape[2]
-    if d == 2:  # the common case, written out (twice as fast as the general loop)
+    if d == 2:  # the common case
         for b in range(m):
-            s = 0.0
-            s0 = 0.0
-            s1 = 0.0
-            s2 = 0.0
-            for i in range(P):
-                wi = w[b, i]
-                s += wi
-                s0 += wi * x[b, i, 0]
-                s1 += wi * x[b, i, 1]
-                s2 += wi * wi
-            S[b] = s
-            mean[b, 0] = s0 / s
-            mean[b, 1] = s1 / s
-            ess[b] = s * s / s2
+            _moments_row2(w, x, b, S, mean, ess)
         return
     acc = np.empty(d)
     for b in range(m):
@@ -148,6 +160,64 @@ def propagate_wna(x, dt, g, L):
             x[b, i, 1] = v
 
 
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """``a b + c`` rounded once (the fused multiply-add instruction)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        return builder.fma(*args)
+
+    return sig, codegen
+
+
+@numba.njit(cache=True, nogil=True)
+def _row_4_2(x0, x1, x2, x3, g0, g1, F, L, j):
+    acc = _fma(x3, F[j, 3], _fma(x2, F[j, 2], _fma(x1, F[j, 1], x0 * F[j, 0])))
+    return acc + _fma(g1, L[j, 1], g0 * L[j, 0])
+
+
+@numba.njit(cache=True, nogil=True)
+def _transition_4_2(x, F, g, L, out):
+    """:func:`linear_transition` written out for ``d = 4``, ``k = 2`` (the same arithmetic)."""
+    n, P = x.shape[0], x.shape[1]
+    for b in range(n):
+        for p in range(P):
+            x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
+            g0, g1 = g[b, p, 0], g[b, p, 1]
+            out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
+            out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
+            out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
+            out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
+
+
+@numba.njit(cache=True, nogil=True)
+def linear_transition(x, F, g, L, out):
+    """``out = x @ F.T + g @ L.T`` for C-contiguous ``x (n, P, d)`` and ``g (n, P, k)``, with
+    the arithmetic of the BLAS ``dgemm`` that NumPy's ``matmul`` calls for each trial's
+    contiguous ``(P, d)`` block (OpenBLAS on x86-64 with FMA: each element is the chain
+    ``x_0 F_j0``, then ``fma(x_m, F_jm, acc)`` for ``m = 1..d-1``), the two products added
+    last. ``tests/test_kernels.py`` checks it bit for bit against ``matmul`` on dense random
+    matrices, so a machine whose BLAS sums otherwise fails there."""
+    n, P, d = x.shape
+    k = g.shape[2]
+    if d == 4 and k == 2:  # the nonlinear model's (white-noise acceleration in x and y)
+        _transition_4_2(x, F, g, L, out)
+        return
+    for b in range(n):
+        for p in range(P):
+            for j in range(d):
+                acc = x[b, p, 0] * F[j, 0]
+                for m in range(1, d):
+                    acc = _fma(x[b, p, m], F[j, m], acc)
+                if k:
+                    noise = g[b, p, 0] * L[j, 0]
+                    for m in range(1, k):
+                        noise = _fma(g[b, p, m], L[j, m], noise)
+                    acc = acc + noise
+                out[b, p, j] = acc
+
+
 @numba.njit(cache=True, nogil=True)
 def table_shifted(coef, n_int, y, shift, scale, out):
     """Interpolation table (:class:`fusioncenter.censoring.tables.LogTable`, even) at
@@ -175,3 +245,154 @@ def table_shifted(coef, n_int, y, shift, scale, out):
                 n_far += 1
             out[b, i] = acc
     return n_far
+
+
+# ----------------------------------------------------------------------------- nonlinear model
+@numba.njit(cache=True, nogil=True)
+def _amp(px, py, sx, sy, alpha, power):
+    """``sqrt(power / (1 + alpha d^2))`` at ``(px, py)`` for a sensor at ``(sx, sy)``: the
+    NumPy arithmetic of ``censoring.nonlinear._amp_from_d2`` (exponent 2), in its order."""
+    dx = px - sx
+    dy = py - sy
+    d2 = dx * dx + dy * dy
+    if alpha != 1.0:
+        d2 = d2 * alpha
+    return math.sqrt(power / (d2 + 1.0))
+
+
+@numba.njit(cache=True, nogil=True)
+def amplitudes(x, pos, alpha, power, out):
+    """``out[b, i, p] = h^i(x[b, p])`` (sensor ``i`` at ``pos[i]``, positions in the state's
+    components 0 and 2, exponent 2) for particles ``x (n, P, d)``; ``out (n, N, P)``."""
+    n, P = x.shape[0], x.shape[1]
+    N = pos.shape[0]
+    for b in range(n):
+        for i in range(N):
+            sx = pos[i, 0]
+            sy = pos[i, 1]
+            for p in range(P):
+                out[b, i, p] = _amp(x[b, p, 0], x[b, p, 2], sx, sy, alpha, power)
+
+
+@numba.njit(cache=True, nogil=True)
+def _pairwise(t, lo, n):
+    """NumPy's pairwise sum of ``t[lo:lo + n]`` (``n <= 128``: one block), in its order."""
+    if n < 8:
+        res = 0.0
+        for i in range(lo, lo + n):
+            res += t[i]
+        return res
+    r0, r1, r2, r3 = t[lo], t[lo + 1], t[lo + 2], t[lo + 3]
+    r4, r5, r6, r7 = t[lo + 4], t[lo + 5], t[lo + 6], t[lo + 7]
+    i = 8
+    while i < n - (n % 8):
+        r0 += t[lo + i]
+        r1 += t[lo + i + 1]
+        r2 += t[lo + i + 2]
+        r3 += t[lo + i + 3]
+        r4 += t[lo + i + 4]
+        r5 += t[lo + i + 5]
+        r6 += t[lo + i + 6]
+        r7 += t[lo + i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += t[lo + i]
+        i += 1
+    return res
+
+
+@numba.njit(cache=True, nogil=True)
+def received_terms(x, pos, alpha, power, sent, z, cr, out):
+    """``out[b, p] = sum_{i: sent[b, i]} cr[i] (h^i(x[b, p]) - z[b, i])^2`` (``cr = -1 / (2
+    r)``; 0 where none sent): the log weights of the received measurements only, summed as
+    ``numpy.add.reduceat`` over the received sensors does (the first term plus the pairwise
+    sum of the others; at most 129 received sensors per trial)."""
+    n, P = x.shape[0], x.shape[1]
+    N = pos.shape[0]
+    t = np.empty(N)
+    for b in range(n):
+        m = 0
+        for i in range(N):
+            if sent[b, i]:
+                m += 1
+        for p in range(P):
+            if m == 0:
+                out[b, p] = 0.0
+                continue
+            px = x[b, p, 0]
+            py = x[b, p, 2]
+            q = 0
+            for i in range(N):
+                if sent[b, i]:
+                    e = _amp(px, py, pos[i, 0], pos[i, 1], alpha, power) - z[b, i]
+                    e = e * e
+                    t[q] = e * cr[i]
+                    q += 1
+            out[b, p] = t[0] + _pairwise(t, 1, m - 1)
+
+
+@numba.njit(cache=True, nogil=True)
+def sensor_terms(amp, sent, z, cr, hxp, sd, amax):
+    """In place on the amplitudes ``amp (n, N, P)``: a received sensor's row becomes ``cr[i]
+    (amp - z[b, i])^2``, a silent one's the offset ``|amp - hxp[b, i]| / sd[i]`` (its maximum
+    in ``amax[b, i]``), for :func:`hermite_rows` or the exact silent factor."""
+    n, N, P = amp.shape
+    for b in range(n):
+        for i in range(N):
+            if sent[b, i]:
+                zi = z[b, i]
+                c = cr[i]
+                for p in range(P):
+                    e = amp[b, i, p] - zi
+                    e = e * e
+                    amp[b, i, p] = e * c
+            else:
+                h = hxp[b, i]
+                s = sd[i]
+                m = -np.inf
+                for p in range(P):
+                    a = abs(amp[b, i, p] - h) / s
+                    amp[b, i, p] = a
+                    if a > m:
+                        m = a
+                amax[b, i] = m
+
+
+@numba.njit(cache=True, nogil=True)
+def sum_sensors(amp, out):
+    """``out[b, p] = amp[b, 0, p] + amp[b, 1, p] + ...`` in this order: ``amp.sum(axis=1)``
+    of a C-contiguous ``(n, N, P)`` array with ``P >= 2`` (NumPy then adds the sensors' rows
+    one after another)."""
+    n, N, P = amp.shape
+    for b in range(n):
+        for p in range(P):
+            out[b, p] = amp[b, 0, p]
+        for i in range(1, N):
+            for p in range(P):
+                out[b, p] = out[b, p] + amp[b, i, p]
+
+
+@numba.njit(cache=True, nogil=True)
+def hermite_rows(a, rb, ri, off, inv, c0, c1, c2, c3):
+    """In place on the rows ``a[rb[k], ri[k], :]``: the piecewise cubic of row ``k``
+    (coefficients from ``off[k]``) at ``a * inv``: ``((c3 f + c2) f + c1) f + c0`` on the
+    interval ``j = int(a * inv)`` with ``f`` the fractional part (the NumPy arithmetic of
+    ``censoring.nonlinear.silent_terms``)."""
+    P = a.shape[2]
+    for k in range(rb.shape[0]):
+        b = rb[k]
+        i = ri[k]
+        o = off[k]
+        for p in range(P):
+            sv = a[b, i, p] * inv
+            j = np.int64(sv)
+            sv = sv - j
+            j += o
+            v = c3[j] * sv
+            v = v + c2[j]
+            v = v * sv
+            v = v + c1[j]
+            v = v * sv
+            v = v + c0[j]
+            a[b, i, p] = v

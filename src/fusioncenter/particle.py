@@ -331,8 +331,15 @@ class LinearGaussianDynamics:
         """``A x + u`` for every particle; ``x (..., d)``."""
         # stacked matmul: one small BLAS call per trial (a single (n P) x d product would be
         # split over BLAS threads, which is slow for d = 2 on a busy machine)
-        out = x @ self.A.T
         k = self._LQ.shape[1]
+        if (x.ndim == 3 and x.shape[1] >= 2 and x.shape[2] >= 2 and x.dtype == np.float64
+                and x.flags.c_contiguous):
+            # compiled: the arithmetic of BLAS dgemm (what matmul calls here) in one pass
+            g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
+            out = np.empty_like(x)
+            _kernels.linear_transition(x, self.A, g, self._LQ, out)
+            return out
+        out = x @ self.A.T
         if k:
             out += rng.standard_normal((*x.shape[:-1], k)) @ self._LQ.T
         return out

@@ -53,7 +53,7 @@ import math
 
 import numpy as np
 
-from fusioncenter import montecarlo, particle
+from fusioncenter import _kernels, montecarlo, particle
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import fusion, results, scenarios
@@ -153,7 +153,6 @@ def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
 #: cubic Hermite interpolation error below 5e-10 in the log weight (tested).
 SILENT_STEP = 0.025
 _LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
-_CHUNK = 1 << 16  # elements per pass of the interpolation (cache-sized)
 
 
 def silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np.ndarray:
@@ -184,16 +183,27 @@ def silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np.
         ``log P(|Z + a| < h)`` ``(rows, P)`` (error below 5e-10).
     """
     rows, P = a.shape
-    out = np.empty_like(a)
+    out = np.array(a, dtype=float)
     if rows == 0:
         return out
-    J = np.floor(a.max(axis=1) / step).astype(np.int64) + 2  # nodes per row
+    _silent_rows(out[:, None, :], np.arange(rows), np.zeros(rows, dtype=np.int64),
+                 a.max(axis=1), h, step)
+    return out
+
+
+def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray,
+                 h: np.ndarray, step: float = SILENT_STEP) -> None:
+    """:func:`silent_terms` in place on the rows ``a[rb[k], ri[k], :]`` of ``a (n, N, P)``
+    (offsets, maxima ``amax (rows,)``, half-widths ``h (rows,)``)."""
+    P = a.shape[2]
+    J = np.floor(amax / step).astype(np.int64) + 2  # nodes per row
     direct = J > max(64, P // 4)
     if direct.any():
-        out[direct] = log_silent_probability(a[direct], h[direct][:, None])
+        db, di = rb[direct], ri[direct]
+        a[db, di] = log_silent_probability(a[db, di], h[direct][:, None])
     tab = np.flatnonzero(~direct)
     if tab.size == 0:
-        return out
+        return
     Jt = J[tab]
     off = np.cumsum(Jt) - Jt
     owner = np.repeat(np.arange(tab.size), Jt)
@@ -209,26 +219,9 @@ def silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np.
     gn = np.append(g[1:], 0.0)
     dn = np.append(dg[1:], 0.0)
     diff = gn - g
-    c0, c1 = g, dg
     c2 = 3.0 * diff - 2.0 * dg - dn
     c3 = -2.0 * diff + dg + dn
-    inv = 1.0 / step
-    per = max(1, _CHUNK // P)
-    for s0 in range(0, tab.size, per):
-        rr = tab[s0:s0 + per]
-        sv = a[rr] * inv
-        j = sv.astype(np.int64)
-        sv -= j
-        j += off[s0:s0 + per, None]
-        v = c3[j]
-        v *= sv
-        v += c2[j]
-        v *= sv
-        v += c1[j]
-        v *= sv
-        v += c0[j]
-        out[rr] = v
-    return out
+    _kernels.hermite_rows(a, rb[tab], ri[tab], off, 1.0 / step, g, dg, c2, c3)
 
 
 # ----------------------------------------------------------------------------- the fusion centre
@@ -293,27 +286,29 @@ class _FusionCentre(fusion.ReferenceFC):
         if self.scheme != "cfwmd" and not sent.all():
             return self._received_only(k, x)
         amp = self._amplitudes(x)  # (n, N, P): h^i(x) for every particle
-        # amp becomes the per-sensor log-likelihood terms, in place
-        any_sent = sent.any()
-        if any_sent:
-            e = amp[sent] - self.z[:, k][sent][:, None]  # received: log N(z; h(x), r)
-            e *= e
-            e *= (-0.5 / np.broadcast_to(self.r, sent.shape)[sent])[:, None]
-        if not sent.all():  # CFwMD: the silent sensors' factors
-            sil = ~sent
-            a = amp[sil]
-            a -= self.hx_pred[sil][:, None]
-            np.abs(a, out=a)
-            a /= np.broadcast_to(self.sd, sil.shape)[sil][:, None]
-            amp[sil] = silent_terms(a, self.hh[sil])
-        if any_sent:
-            amp[sent] = e
-        return amp.sum(axis=1)
+        # amp becomes the per-sensor log-likelihood terms, in place (compiled): received,
+        # log N(z; h(x), r); silent (CFwMD), the offsets, then their factors
+        amax = np.empty(sent.shape)
+        _kernels.sensor_terms(amp, sent, self.z[:, k], -0.5 / self.r, self.hx_pred
+                              if self.hx_pred is not None else amax, self.sd, amax)
+        if not sent.all():
+            rb, ri = np.nonzero(~sent)
+            _silent_rows(amp, rb, ri, amax[rb, ri], self.hh[rb, ri])
+        if amp.shape[2] < 2:
+            return amp.sum(axis=1)
+        out = np.empty((amp.shape[0], amp.shape[2]))
+        _kernels.sum_sensors(amp, out)  # amp.sum(axis=1), one pass
+        return out
 
     def _received_only(self, k: int, x: np.ndarray) -> np.ndarray:
-        """``sum_{received} log N(z^i; h^i(x), r_i)`` computing ``h^i`` only where needed."""
+        """``sum_{received} log N(z^i; h^i(x), r_i)`` computing ``h^i`` only where needed
+        (compiled for the exponent 2)."""
         n, P = x.shape[:2]
         out = np.zeros((n, P))
+        if self.sc.exponent == 2.0 and self.N <= 129:
+            _kernels.received_terms(x, self.pos, float(self.sc.alpha), float(self.sc.power),
+                                    self.sent[:, k], self.z[:, k], -0.5 / self.r, out)
+            return out
         b, i = np.nonzero(self.sent[:, k])  # row-major: b is non-decreasing
         if b.size == 0:
             return out
@@ -331,11 +326,16 @@ class _FusionCentre(fusion.ReferenceFC):
         return out
 
     def _amplitudes(self, x: np.ndarray) -> np.ndarray:
-        """``h^i(x)`` for every trial, sensor and particle: ``(n, N, P)``. The squared distances
-        are assembled from the distinct sensor abscissae and ordinates (3 + 3 on a grid)."""
+        """``h^i(x)`` for every trial, sensor and particle: ``(n, N, P)`` (compiled for the
+        exponent 2). The squared distances are assembled from the distinct sensor abscissae
+        and ordinates (3 + 3 on a grid)."""
+        n, P = x.shape[:2]
+        if self.sc.exponent == 2.0:
+            out = np.empty((n, self.N, P))
+            _kernels.amplitudes(x, self.pos, float(self.sc.alpha), float(self.sc.power), out)
+            return out
         px = np.ascontiguousarray(x[..., 0])
         py = np.ascontiguousarray(x[..., 2])
-        n, P = px.shape
         ux, ix = np.unique(self.pos[:, 0], return_inverse=True)
         uy, iy = np.unique(self.pos[:, 1], return_inverse=True)
         dx2 = np.square(px[:, None, :] - ux[None, :, None])  # (n, #x, P)
