@@ -126,6 +126,10 @@ SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per poi
                              dict(FADING["steps"]), minimum=2))
 
 
+#: How a caption names each access scheme ("multi-access" already says "access").
+ACCESS_NAMES = {"multi-access": "Multi-access", "orthogonal": "Orthogonal access"}
+
+
 def register_panels(figs: tuple[str, str], caption: str, what_b: str, functions: tuple,
                     **fields) -> None:
     """Register panels (a) and (b) of a multi-access and an orthogonal figure (Figs. 3-6).
@@ -154,7 +158,7 @@ def register_panels(figs: tuple[str, str], caption: str, what_b: str, functions:
             what = "total power meeting the error target D = 2" if panel == "a" else what_b
             register(Entry(
                 id=f"leong2011-fig{fig}{panel}", paper="leong2011", kind="figure",
-                caption=caption.format(access=access.capitalize(), what=what),
+                caption=caption.format(access=ACCESS_NAMES[access], what=what),
                 label=f"sec-leong2011-fig{fig}{panel}",
                 compute=functools.partial(compute, access=access, panel=panel), plot=plot,
                 checks=checks, status="reproduced", **fields))

@@ -236,7 +236,7 @@ def checks_fading(data: dict) -> list[Claim]:
         pooled = np.mean(data["loss_diff"]) / (np.sqrt(np.sum(data["loss_diff_stderr"] ** 2))
                                                / zd.size)
         out.append(Claim(
-            "the loss without CSI is larger for orthogonal than for multi-access access: mean "
+            "the loss without CSI is larger for orthogonal than for multi-access: mean "
             f"log(no-CSI / CSI) larger, pooled over M (paired, {Z_TOL:.0f} s.e.)",
             bool(pooled > Z_TOL),
             f"pooled z = {pooled:.1f}; per M z = " + ", ".join(f"{v:.1f}" for v in zd)
@@ -247,7 +247,7 @@ def checks_fading(data: dict) -> list[Claim]:
 
 
 register_panels(
-    ("5", "6"), "{access} access, Rician fading: full CSI (greedy allocation at every step) vs no "
+    ("5", "6"), "{access}, Rician fading: full CSI (greedy allocation at every step) vs no "
     "CSI (linear MMSE estimator), {what}, against the number of sensors M.",
     "error variance under the sum-power budget gamma_total = 1e-3",
     (compute_fading, plot_fading, checks_fading), chapter=CH_FADING, parameters=FADING,

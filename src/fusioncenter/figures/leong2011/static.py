@@ -208,7 +208,7 @@ def checks_static(data: dict) -> list[Claim]:
         pooled = np.mean(data["benefit_diff"]) / (
             np.sqrt(np.sum(data["benefit_diff_stderr"] ** 2)) / z.size)
         out.append(Claim(
-            f"optimal allocation helps more in orthogonal than in multi-access access: mean "
+            f"optimal allocation helps more in orthogonal than with multi-access: mean "
             f"equal/optimal ratio larger, pooled over M (paired, {Z_TOL:.0f} s.e.)",
             bool(pooled > Z_TOL),
             f"pooled z = {pooled:.1f}; per M z = " + ", ".join(f"{v:.1f}" for v in z)
@@ -218,7 +218,7 @@ def checks_static(data: dict) -> list[Claim]:
 
 
 register_panels(
-    ("3", "4"), "{access} access, static channels: optimal vs equal power allocation, {what}, "
+    ("3", "4"), "{access}, static channels: optimal vs equal power allocation, {what}, "
     "against the number of sensors M (average over random sensor parameters).",
     "steady-state error under the sum-power budget gamma_total = 1e-3",
     (compute_static, plot_static, checks_static), chapter=CH_ALLOCATION, parameters=STATIC,
