@@ -315,6 +315,13 @@ ENTRY_POINTS = [
      dict(outage=VAR)),
     ("synthesis.energy_matched_outage", synthesis.energy_matched_outage,
      dict(outage_full=0.1, rate=0.5), dict(outage_full=VAR, rate=VAR)),
+    ("kalman.kalman_step",
+     lambda x, P, innov, C, R: kalman.kalman_step(
+         np.asarray(x, float), np.asarray(P, float), np.asarray(innov, float),
+         np.asarray(C, float), np.asarray(R, float), 0.9 * E2, E2, check=True),
+     dict(x=np.zeros((3, 2)), P=P2, innov=np.ones((3, 1)), C=[[1.0, 0.0]], R=[[1.0]]),
+     dict(P=COV, R=COV)),
+    ("models.wna_model", models.wna_model, dict(dt=1.0), dict(dt=VAR)),
     ("synthesis.kf_filter", _kf_filter, {}, dict(z=NUM, xi=NUM, delta=VAR)),
 ]
 
@@ -322,7 +329,7 @@ ENTRY_POINTS = [
 #: modules own (the particle filters of synthesis belong to the censoring engine's helper).
 NOT_ENTRY_POINTS = {
     "riccati.PINV_RCOND", "fading.ACCESS_SCHEMES", "power.ACCESS", "power.InfeasibleError",
-    "event.SCHEMES",
+    "event.SCHEMES", "kalman.KalmanStep",
     "event.Calibration", "event.EventKFRun", "event.split_summary",
     "synthesis.KF_SCHEMES", "synthesis.PF_SCHEMES", "synthesis.RECEIVERS", "synthesis.Draw",
     "synthesis.KFOutput", "synthesis.KFRun", "synthesis.Summary", "synthesis.run_pf",

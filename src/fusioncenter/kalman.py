@@ -256,17 +256,18 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     """
     if r_singular is None:
         r_singular = singular(R)
+    # the covariance update first: with check=True it validates P and R (naming them) before
+    # anything else uses them; it is a pure function of P, C, R, so the order changes no bit
+    P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
     if P.ndim == 2 and np.ndim(C) == 2 and np.ndim(R) == 2:
         S = C @ P @ C.T + R
         K = solve_psd(S, C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
         x_post = x + innov @ K.T
-        P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
         return KalmanStep(x_post, P_post, x_post @ A.T, A @ P_post @ A.T + Q)
     PCt = P @ np.swapaxes(C, -1, -2)  # (n, nx, m)
     S = C @ PCt + R
     w = solve_psd(S, innov[..., None], singular=r_singular)  # S^{-1} innov
     x_post = x + (PCt @ w)[..., 0]
-    P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
     P_pred = A @ P_post @ A.T + Q
     return KalmanStep(x_post, P_post, x_post @ A.T, 0.5 * (P_pred + np.swapaxes(P_pred, -1, -2)))
 

@@ -30,7 +30,7 @@ def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     dt : float
-        Sampling period (the callers check it is positive).
+        Sampling period, ``> 0``.
 
     Returns
     -------
@@ -38,7 +38,14 @@ def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
         ``(2, 2)`` state transition.
     Q1 : numpy.ndarray
         ``(2, 2)`` process-noise covariance per unit ``sigma2``.
+
+    Raises
+    ------
+    ValueError
+        If ``dt`` is not a positive finite number.
     """
+    if isinstance(dt, bool) or not np.isscalar(dt) or not np.isfinite(dt) or not dt > 0:
+        raise ValueError(f"dt must be a positive finite number, got {dt!r}")
     return (np.array([[1.0, dt], [0.0, 1.0]]),
             np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))
 
