@@ -45,7 +45,7 @@ class PerTrial:
 
     @property
     def n_trials(self) -> int:
-        """Number of trials: the first axis of ``samples``."""
+        """The number of trials (the length of the first axis of ``samples``)."""
         return int(self.samples.shape[0])
 
     def same_trials(self, other: PerTrial) -> bool:

@@ -1,5 +1,5 @@
 """The event-triggered Kalman filter of :mod:`fusioncenter.event`: the fusion centre's exact
-filter under mo2015's stochastic trigger (and the baselines of :data:`SCHEMES`), its Monte Carlo
+filter under mo2015's stochastic trigger (and the baselines of ``SCHEMES``), its Monte Carlo
 summary, and the choice of the trigger parameter for a target send rate."""
 
 from __future__ import annotations

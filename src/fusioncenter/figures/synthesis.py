@@ -50,6 +50,7 @@ COST_PARTICLES = {"fast": (25, 50, 100, 200, 500), "paper": (25, 50, 100, 200, 5
 
 TRIALS = {"fast": 512, "paper": 2048}
 PARTICLES = {"fast": 500, "paper": 500}
+#: Trials of the Monte Carlo calibration of each trigger parameter, per profile.
 CALIBRATION_TRIALS = {"fast": 500, "paper": 2000}
 COST_TRIALS = {"fast": 256, "paper": 1024}
 #: The overridable parameters (Monte Carlo sizes only: every claim applies).
