@@ -5,15 +5,102 @@ of :class:`fusioncenter.context.Parameter` (``--set key=value`` on the command l
 compute reads the value of each one in a run with :func:`settings`, so that the default of a
 parameter is written once, in its declaration. :func:`register_figure` registers a reproduced
 figure from its fields and its three functions.
+
+Every entry has the same three functions, with the same arguments: ``compute(profile, seed,
+**over)`` returns the data, ``plot(data)`` draws them, ``checks(data)`` tests the paper's claims
+on them. Their numpydoc sections are written once, in :data:`document` (a
+:class:`fusioncenter._docstrings.Glossary`): :func:`compute_doc`, :func:`plot_doc` and
+:func:`checks_doc` append them to a function's own summary, which says what is particular to
+the entry (the data's keys, the figure's panels, the claims).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from fusioncenter import context
+from fusioncenter._docstrings import Glossary
 from fusioncenter.context import Parameter
 from fusioncenter.figures.registry import Entry, register
 
-__all__ = ["register_figure", "settings", "trials_parameter"]
+__all__ = ["checks_doc", "compute_doc", "document", "plot_doc", "register_figure", "settings",
+           "trials_parameter"]
+
+#: The arguments shared by the compute, plot and checks functions of the registry's entries
+#: (and the helpers that take the same ``profile``, ``seed`` or ``data``).
+document = Glossary("""
+profile : {"fast", "paper"}
+    The Monte Carlo profile: ``"fast"`` (the test build's sizes) or ``"paper"`` (the papers').
+seed : int
+    The root seed: every random draw of the run derives from it, so that the data are the
+    same, bit for bit, under every executor and chunking.
+**over
+    Overrides of the entry's settable parameters (``python -m fusioncenter params ID`` lists
+    them, ``--set key=value`` on the command line).
+data : dict
+    The entry's data, as its compute function returns them.
+""", raises="""
+ValueError
+    For an unknown key of ``over`` (the message lists the valid keys) or an invalid value,
+    naming the parameter.
+""")
+
+
+def compute_doc(returns: str, **overrides) -> Callable:
+    """The numpydoc sections of an entry's compute function.
+
+    Parameters
+    ----------
+    returns : str
+        What the returned ``dict`` holds (its keys).
+    **overrides
+        Descriptions of arguments particular to this function (``name=(type, text)``).
+
+    Returns
+    -------
+    Callable
+        The decorator (:meth:`fusioncenter._docstrings.Glossary.__call__`).
+    """
+    return document(returns=("dict", returns), **overrides)
+
+
+def plot_doc(returns: str = "The figure (:func:`fusioncenter.plotting.finish` applied).",
+             **overrides) -> Callable:
+    """The numpydoc sections of an entry's plot function (it raises nothing of its own).
+
+    Parameters
+    ----------
+    returns : str
+        What the figure shows, if the summary does not say it.
+    **overrides
+        Descriptions of arguments particular to this function (``name=(type, text)``).
+
+    Returns
+    -------
+    Callable
+        The decorator.
+    """
+    return document(returns=("matplotlib.figure.Figure", returns), raises=(), **overrides)
+
+
+def checks_doc(returns: str = "One claim per statement of the paper checked on the data, "
+               "each with its measured value in its detail.", **overrides) -> Callable:
+    """The numpydoc sections of an entry's checks function (it raises nothing of its own).
+
+    Parameters
+    ----------
+    returns : str
+        What the claims are, if the summary does not say it.
+    **overrides
+        Descriptions of arguments particular to this function (``name=(type, text)``).
+
+    Returns
+    -------
+    Callable
+        The decorator.
+    """
+    return document(returns=("list of fusioncenter.figures.registry.Claim", returns), raises=(),
+                    **overrides)
 
 
 def settings(entry_id: str, settable, profile: str, over: dict) -> dict:
