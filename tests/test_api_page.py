@@ -51,19 +51,80 @@ def test_literal_blocks_and_constants_are_left_alone():
     assert napoleon_output == doc
 
 
-@pytest.mark.parametrize("path", ["book.py", "profile.py", "censoring_compare.py",
-                                  "figures/scorecard.py", "figures/background.py",
-                                  "figures/common.py",
-                                  *(f"figures/dey2009/{m}.py" for m in (
-                                      "common", "scalar", "multisensor", "ordering", "vector",
-                                      "distribution")),
-                                  *(f"figures/leong2011/{m}.py" for m in ("common",)),
-                                  "figures/zheng2014/common.py"])
-def test_public_functions_have_numpydoc_sections(path):
-    tree = ast.parse((ROOT / "src/fusioncenter" / path).read_text())
-    missing = []
-    for node in tree.body:
-        if isinstance(node, ast.FunctionDef) and not node.name.startswith("_"):
-            if "\nReturns\n-------\n" not in (ast.get_docstring(node) or ""):
-                missing.append(node.name)
-    assert not missing, f"{path}: no numpydoc Returns section: {missing}"
+def _public_objects():
+    """``(module, name, object)`` for every public function and class defined in a public
+    module of fusioncenter (by its ``__module__``, so re-exports are seen once)."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import fusioncenter
+
+    names = [fusioncenter.__name__] + [m.name for m in pkgutil.walk_packages(
+        fusioncenter.__path__, "fusioncenter.")]
+    for name in sorted(names):
+        if any(part.startswith("_") for part in name.split(".")[1:]):
+            continue
+        mod = importlib.import_module(name)
+        for attr, obj in sorted(vars(mod).items()):
+            if (not attr.startswith("_") and getattr(obj, "__module__", None) == name
+                    and (inspect.isfunction(obj) or inspect.isclass(obj))
+                    and not (inspect.isclass(obj) and issubclass(obj, BaseException))):
+                yield name, attr, obj
+
+
+def _returns_value(func) -> bool:
+    import inspect
+    import textwrap
+
+    tree = ast.parse(textwrap.dedent(inspect.getsource(func)))
+    return any((isinstance(n, ast.Return) and n.value is not None
+                and not (isinstance(n.value, ast.Constant) and n.value.value is None))
+               or isinstance(n, ast.Yield | ast.YieldFrom) for n in ast.walk(tree.body[0]))
+
+
+def _arguments(obj) -> list[str]:
+    import inspect
+
+    try:
+        return [p for p in inspect.signature(obj).parameters if p not in ("self", "cls")]
+    except (TypeError, ValueError):
+        return []
+
+
+#: Modules whose public names are still being documented (issue 15 item 5); empty when done.
+PENDING: set[str] = {
+    "fusioncenter.event.kf", "fusioncenter.fading.channels", "fusioncenter.kalman",
+    "fusioncenter.particle", "fusioncenter.synthesis", "fusioncenter.figures.registry",
+    "fusioncenter.figures.mo2015", "fusioncenter.figures.synthesis",
+    "fusioncenter.figures.leong2011.asymptotics", "fusioncenter.figures.leong2011.fading_channels",
+    "fusioncenter.figures.leong2011.static", "fusioncenter.figures.zheng2014.choices",
+    "fusioncenter.figures.zheng2014.linear", "fusioncenter.figures.zheng2014_vector",
+    "fusioncenter.figures.zheng2014_nonlinear",
+}
+
+
+def test_public_functions_and_classes_have_numpydoc_sections():
+    """Every public function documents its arguments (``Parameters``) and what it returns
+    (``Returns`` or ``Yields``, unless it returns nothing); every public class taking arguments
+    has ``Parameters`` or ``Attributes``. Read from the runtime docstrings, so that sections
+    appended by a :class:`fusioncenter._docstrings.Glossary` count."""
+    import inspect
+
+    missing, seen = [], set()
+    for module, name, obj in _public_objects():
+        seen.add(module)
+        if module in PENDING:
+            continue
+        doc = inspect.getdoc(obj) or ""
+        lacks = []
+        if _arguments(obj) and not ("Parameters\n----------" in doc or (
+                inspect.isclass(obj) and "Attributes\n----------" in doc)):
+            lacks.append("Parameters")
+        if inspect.isfunction(obj) and _returns_value(obj) and not (
+                "Returns\n-------" in doc or "Yields\n------" in doc):
+            lacks.append("Returns")
+        if lacks:
+            missing.append(f"{module}.{name} ({', '.join(lacks)})")
+    assert not missing, f"{len(missing)} public names lack numpydoc sections: {missing}"
+    assert PENDING <= seen, f"PENDING names modules that do not exist: {PENDING - seen}"
