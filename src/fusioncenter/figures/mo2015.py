@@ -10,22 +10,46 @@ The notes have no figures; these three entries check their formulas and extend t
 * ``mo2015-tracking``: the event-triggered Kalman filter on the tracking model of zheng2014,
   Section VII.A: RMSE against average transmissions per step.
 
-Besides the registry entries, the module holds the closed forms that the figures need and the
-library does not (yet) provide: the joint probability of a transmission pattern, the exact
-expected trace of the posterior covariance under each scheduler, and the posterior of a centre
-that simply drops silent sensors. The chapters import them.
+The static example and the closed forms that the figures need and the library does not (yet)
+provide (the joint probability of a transmission pattern, the exact expected trace of the
+posterior covariance under each scheduler, the posterior of a centre that simply drops silent
+sensors) are in :mod:`fusioncenter.figures.mo2015_static`; they are re-exported here, where the
+chapters find them.
 """
 
 from __future__ import annotations
 
 import functools
-import itertools
 
 import numpy as np
 
 from fusioncenter import event, montecarlo, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.common import (
+    checks_doc,
+    compute_doc,
+    document,
+    plot_doc,
+    register_figure,
+    settings,
+    trials_parameter,
+)
+from fusioncenter.figures.mo2015_static import (  # noqa: F401 (re-exported for the chapters)
+    EXAMPLE,
+    all_silent_probability,
+    conditional_chunk,
+    draw_example,
+    drop_covariances,
+    drop_posterior,
+    example,
+    expected_trace_random,
+    expected_trace_stochastic,
+    output_variances,
+    pattern_code,
+    pattern_covariances,
+    pattern_probabilities,
+    patterns,
+)
 from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
 
@@ -35,16 +59,6 @@ OWN_IDS = ("mo2015-rate", "mo2015-tradeoff", "mo2015-tracking")
 CHAPTER_RATE = "book/mo2015/rate"
 CHAPTER_CM = "book/mo2015/conditional-mean"
 CHAPTER_KF = "book/mo2015/event-kf"
-
-#: The static example of chapters 3 and 4: x ~ N(xbar, Sigma) in R^2, three scalar sensors
-#: y_i = a_i x + v_i (the rows of C), v_i ~ N(0, r_i). Sensor 3 measures x_1 + x_2, whose prior
-#: mean is 0, so its rate does not depend on xbar; sensors 1 and 2 see means +1 and -1.
-EXAMPLE = {
-    "xbar": [1.0, -1.0],
-    "Sigma": [[2.0, 0.6], [0.6, 1.0]],
-    "C": [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]],
-    "r": [0.5, 0.5, 1.0],
-}
 
 #: Trigger parameters (the same for every sensor) at which the rate is simulated.
 RATE_DELTAS = np.geomspace(0.02, 50.0, 13)
@@ -80,177 +94,6 @@ SETTABLE_TRACKING = (
 Z_TOL = 4.0
 
 
-def example():
-    """``(xbar, Sigma, C, r)`` of :data:`EXAMPLE` as arrays."""
-    return (np.array(EXAMPLE["xbar"]), np.array(EXAMPLE["Sigma"]), np.array(EXAMPLE["C"]),
-            np.array(EXAMPLE["r"]))
-
-
-def output_variances(Sigma, C, r) -> np.ndarray:
-    """``s_i = a_i Sigma a_i^T + r_i``: the variance of each sensor's measurement."""
-    return np.einsum("ij,jk,ik->i", C, Sigma, C) + np.asarray(r, dtype=float)
-
-
-# ------------------------------------------------------------------------- closed forms
-def all_silent_probability(Sigma, C, r, delta, xbar=None, subset=None) -> float:
-    """``P(gamma_i = 0 for every i in subset)``; ``subset`` defaults to all sensors.
-
-    ``E prod_i exp(-y_i^2 / (2 delta_i))`` for ``y_S ~ N(mu_S, V_SS)``, ``V = C Sigma C^T + R``,
-    is a Gaussian integral: ``det(I + V_SS D^{-1})^{-1/2} exp(-mu_S^T (V_SS + D)^{-1} mu_S / 2)``
-    with ``D = diag(delta_S)``. The decisions of sensors with correlated measurements are
-    dependent, so this is not the product of the marginal silence probabilities.
-    """
-    C = np.asarray(C, dtype=float)
-    m, n = C.shape
-    idx = list(range(m)) if subset is None else list(subset)
-    if not idx:
-        return 1.0
-    xbar = np.zeros(n) if xbar is None else np.asarray(xbar, dtype=float)
-    delta = np.broadcast_to(np.asarray(delta, dtype=float), (m,))
-    V = C @ np.asarray(Sigma, dtype=float) @ C.T + np.diag(np.asarray(r, dtype=float))
-    Vs = V[np.ix_(idx, idx)]
-    D = np.diag(delta[idx])
-    mu = (C @ xbar)[idx]
-    _, logdet = np.linalg.slogdet(np.eye(len(idx)) + Vs / delta[idx][None, :])
-    return float(np.exp(-0.5 * logdet - 0.5 * mu @ np.linalg.solve(Vs + D, mu)))
-
-
-def patterns(m: int) -> np.ndarray:
-    """All ``2^m`` transmission patterns, ``(2^m, m)`` booleans, sensor 1 most significant."""
-    return np.array(list(itertools.product([False, True], repeat=m)))
-
-
-def pattern_code(gamma) -> np.ndarray:
-    """Index of each pattern in :func:`patterns` (``gamma`` shaped ``(..., m)``)."""
-    gamma = np.asarray(gamma, dtype=int)
-    m = gamma.shape[-1]
-    return gamma @ (2 ** np.arange(m - 1, -1, -1))
-
-
-def pattern_probabilities(Sigma, C, r, delta, xbar=None) -> np.ndarray:
-    """``P(gamma = g)`` for every pattern ``g`` of :func:`patterns`, by inclusion-exclusion.
-
-    ``P(silent on Z, sending on the rest) = E prod_{Z} g_i prod_{not Z} (1 - g_j)``; expanding the
-    second product gives a signed sum of :func:`all_silent_probability` over supersets of ``Z``.
-    """
-    m = np.asarray(C).shape[0]
-    cache: dict[tuple, float] = {}
-
-    def q(S):
-        key = tuple(sorted(S))
-        if key not in cache:
-            cache[key] = all_silent_probability(Sigma, C, r, delta, xbar, key)
-        return cache[key]
-
-    probs = []
-    for g in patterns(m):
-        silent = [i for i in range(m) if not g[i]]
-        send = [i for i in range(m) if g[i]]
-        total = 0.0
-        for k in range(len(send) + 1):
-            for U in itertools.combinations(send, k):
-                total += (-1) ** k * q(silent + list(U))
-        probs.append(total)
-    return np.array(probs)
-
-
-def pattern_covariances(Sigma, C, r, delta) -> np.ndarray:
-    """``P(g) = Cov(x | gamma = g, gamma y)`` for every pattern: ``(2^m, n, n)``.
-
-    The notes' formula: a silent sensor is a measurement with noise variance ``r_i + delta_i``.
-    """
-    r = np.asarray(r, dtype=float)
-    pats = patterns(len(r))
-    noise = r + np.where(pats, 0.0, np.asarray(delta, dtype=float))
-    return riccati.measurement_update(np.asarray(Sigma, dtype=float), np.asarray(C, dtype=float),
-                                      noise[:, :, None] * np.eye(len(r)))
-
-
-def drop_covariances(Sigma, C, r) -> np.ndarray:
-    """Posterior covariance when silent sensors are simply dropped, for every pattern."""
-    C = np.asarray(C, dtype=float)
-    pats = patterns(C.shape[0])
-    Ck = C * pats[:, :, None]
-    R = np.broadcast_to(np.diag(np.asarray(r, dtype=float)), (len(pats),) + (C.shape[0],) * 2)
-    return riccati.measurement_update(np.asarray(Sigma, dtype=float), Ck, R)
-
-
-def expected_trace_stochastic(Sigma, C, r, delta, xbar=None) -> float:
-    """Exact ``E tr P`` (the MSE of the MMSE estimator) under the stochastic trigger."""
-    probs = pattern_probabilities(Sigma, C, r, delta, xbar)
-    traces = np.trace(pattern_covariances(Sigma, C, r, delta), axis1=-2, axis2=-1)
-    return float(probs @ traces)
-
-
-def expected_trace_random(Sigma, C, r, p) -> float:
-    """Exact MSE of random selection: sensor ``i`` sends w.p. ``p_i``, independently of all."""
-    C = np.asarray(C, dtype=float)
-    pats = patterns(C.shape[0])
-    p = np.broadcast_to(np.asarray(p, dtype=float), (C.shape[0],))
-    probs = np.prod(np.where(pats, p, 1.0 - p), axis=1)
-    traces = np.trace(drop_covariances(Sigma, C, r), axis1=-2, axis2=-1)
-    return float(probs @ traces)
-
-
-def drop_posterior(xbar, Sigma, C, r, gamma, y):
-    """Posterior mean and covariance of a centre that drops silent sensors (batched).
-
-    Exact when ``gamma`` is independent of ``y`` (random selection); with the stochastic trigger
-    it ignores what the silence says, which is the naive estimator of chapter 4.
-    """
-    C = np.asarray(C, dtype=float)
-    gamma = np.asarray(gamma, dtype=bool)
-    m = C.shape[0]
-    Ck = C * gamma[..., :, None]  # a zero row carries no information
-    R = np.broadcast_to(np.diag(np.asarray(r, dtype=float)), gamma.shape[:-1] + (m, m))
-    SCt = np.asarray(Sigma, dtype=float) @ np.swapaxes(Ck, -1, -2)
-    S = Ck @ SCt + R
-    innov = np.where(gamma, y, 0.0) - (Ck @ np.asarray(xbar, dtype=float)[..., None])[..., 0]
-    xhat = xbar + (SCt @ np.linalg.solve(S, innov[..., None]))[..., 0]
-    return xhat, riccati.measurement_update(Sigma, Ck, R)
-
-
-def draw_example(rng: np.random.Generator, n: int):
-    """Draw ``n`` independent instances of the state, measurements and trigger uniforms.
-
-    The draws use the example of :func:`example` and are taken in a fixed order (all states
-    first, then the measurement noise, then the uniforms), so that results depend only on
-    ``rng``'s seed.
-
-    Parameters
-    ----------
-    rng : numpy.random.Generator
-        The source of randomness.
-    n : int
-        Number of instances.
-
-    Returns
-    -------
-    x : numpy.ndarray, shape (n, 2)
-        States drawn from N(xbar, Sigma).
-    y : numpy.ndarray, shape (n, m)
-        Measurements ``C x + v`` of the m sensors, with ``v ~ N(0, diag(r))``.
-    xi : numpy.ndarray, shape (n, m)
-        Uniform draws on [0, 1) for the sensors' stochastic triggers.
-    """
-    xbar, Sigma, C, r = example()
-    x = xbar + rng.standard_normal((n, len(xbar))) @ np.linalg.cholesky(Sigma).T
-    y = x @ C.T + rng.standard_normal((n, len(r))) * np.sqrt(r)
-    xi = rng.random((n, len(r)))
-    return x, y, xi
-
-
-def conditional_chunk(rng: np.random.Generator, n: int, *, delta) -> np.ndarray:
-    """Chapter 4's experiment on :data:`EXAMPLE`: ``(n, 5)`` columns ``[pattern code, e_1, e_2,
-    naive e_1, naive e_2]`` with ``e = x - E(x | I)`` from the notes' formula and the naive error
-    of a centre that drops silent sensors (:func:`drop_posterior`)."""
-    xbar, Sigma, C, r = example()
-    x, y, _ = draw_example(rng, n)
-    g = event.sample_trigger(rng, y, delta)
-    xhat, _ = event.posterior(xbar, Sigma, C, r, delta, g, np.where(g, y, np.nan))
-    xnaive, _ = drop_posterior(xbar, Sigma, C, r, g, y)
-    return np.column_stack([pattern_code(g), x - xhat, x - xnaive])
-
 
 # ------------------------------------------------------------------------------ mo2015-rate
 def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
@@ -268,7 +111,16 @@ def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
     return np.stack([g0, g1], axis=2).astype(float)
 
 
+@compute_doc("``s`` (m,) the output variances and ``mu`` (m,) the prior means ``a_i xbar``; "
+             "``delta_fine`` (201,) and on it ``rate_zero_mean``, ``rate_xbar`` (201, m) the "
+             "closed-form rates, ``rate_notes`` the notes' formula, ``delta_back_zero_mean``, "
+             "``delta_back_xbar`` the deltas recovered from the rates; ``delta_mc`` (D,) "
+             "and ``rate_mc``, ``rate_mc_stderr``, ``rate_closed_at_mc`` (D, 2, m) the "
+             "simulated and closed-form rates (prior mean 0, then ``xbar``); ``n_trials``, "
+             "``seed``.")
 def compute_rate(profile: str, seed: int, **over) -> dict:
+    """Data of ``mo2015-rate``: each sensor's communication rate against ``delta``, in closed
+    form and by simulation (the same draws at every ``delta``), for prior mean 0 and ``xbar``."""
     xbar, Sigma, C, r = example()
     s = output_variances(Sigma, C, r)
     mu = C @ xbar
@@ -293,7 +145,10 @@ def compute_rate(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_rate(data: dict):
+    """Rate against ``delta`` per sensor, prior mean 0 (left) and ``xbar`` (right), with the
+    Monte Carlo points."""
     fig, axes = plotting.subplots(1, 2, sharey=True, stack=True)
     titles = [r"prior mean $\bar x = 0$ (the notes)",
               r"prior mean $\bar x = (1, -1)$ (extension)"]
@@ -321,7 +176,10 @@ def plot_rate(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_rate(data: dict) -> list[Claim]:
+    """The notes' formula, the simulation, monotonicity in ``delta``, the effect of the prior
+    mean and the inversion by ``delta_for_rate``."""
     # The z-scores share their draws (common random numbers across delta and the two means), so
     # they are strongly correlated: we check each one, not a chi-square sum of them.
     z = (data["rate_mc"] - data["rate_closed_at_mc"]) / data["rate_mc_stderr"]
@@ -371,8 +229,10 @@ register_figure(
 
 
 # -------------------------------------------------------------------------- mo2015-tradeoff
+@document(returns=("numpy.ndarray, shape (L, m)", ""),
+          rates=("array_like, shape (L,)", "Send rates in (0, 1)."))
 def tradeoff_deltas(rates) -> np.ndarray:
-    """Per-sensor ``delta`` giving each sensor of :data:`EXAMPLE` the send rate ``rate``."""
+    """Per-sensor ``delta`` giving each sensor of :data:`EXAMPLE` each send rate of ``rates``."""
     xbar, Sigma, C, r = example()
     s, mu = output_variances(Sigma, C, r), C @ xbar
     rates = np.asarray(rates, dtype=float)
@@ -398,7 +258,16 @@ def _tradeoff_chunk(rng: np.random.Generator, n: int, *, rates, deltas) -> np.nd
     return np.stack(cols, axis=1)
 
 
+@compute_doc("``rate_fine`` (49,) with ``mse_exact_stochastic_fine``, ``mse_exact_random_fine`` "
+             "the exact MSE curves; at the Monte Carlo rates ``rate`` (L,) (``delta`` (L, m)): "
+             "``mse_exact_*``, and for ``stochastic`` and ``random`` the simulated ``mse_*``, "
+             "``rate_*`` (and ``trP_stochastic``), each with ``*_stderr``; ``diff`` and "
+             "``resid`` (paired trigger minus random, squared error minus tr P) with their "
+             "``*_stderr``; ``trace_all_send``, ``trace_prior``, ``mse_all_send(_stderr)``, "
+             "``pattern_prob_sum`` (L,), ``n_trials``, ``seed``.")
 def compute_tradeoff(profile: str, seed: int, **over) -> dict:
+    """Data of ``mo2015-tradeoff``: mean squared error against rate on :data:`EXAMPLE`, exact
+    and simulated (the same draws for every scheme and rate)."""
     xbar, Sigma, C, r = example()
     m = len(r)
     fine = np.round(np.linspace(0.02, 0.98, 49), 10)
@@ -437,7 +306,10 @@ def compute_tradeoff(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_tradeoff(data: dict):
+    """MSE against rate: exact curves and Monte Carlo points of both schedulers, all-send and
+    the prior as horizontal lines."""
     fig, ax = plotting.subplots(stack=True)
     for key, scheme, name in [("stochastic", "trigger", "stochastic trigger (MMSE)"),
                               ("random", "random", "random selection, same rate")]:
@@ -457,7 +329,10 @@ def plot_tradeoff(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_tradeoff(data: dict) -> list[Claim]:
+    """The closed forms against the simulation, the rates, the trigger below random selection
+    and all-send the lower bound."""
     zd = data["diff"] / data["diff_stderr"]
     zs = (data["mse_stochastic"] - data["mse_exact_stochastic"]) / data["mse_stochastic_stderr"]
     zp = data["resid"] / data["resid_stderr"]
@@ -557,7 +432,16 @@ def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> di
     }
 
 
+@compute_doc("``k``, ``rate_target`` (R,), the calibrated ``delta`` (R,) with "
+             "``calibration_rate``, ``calibration_stderr``, ``calibration_tol``; ``m``, "
+             "``n_trials``, ``n_calibration``, ``seed``; per scheme (``stochastic_*``, "
+             "``random_*``: one row per rate; ``all_send_*``) the per-step ``mse_k``, ``p_k``, "
+             "``resid_k``, the time averages ``mse``, ``p_avg``, the measured ``rate`` and "
+             "``send_prob`` (``mse_k``, ``resid_k``, ``mse``, ``rate`` with ``*_stderr``); "
+             "``diff`` and ``allsend_minus_stochastic`` (paired, with ``*_stderr``).")
 def compute_tracking(profile: str, seed: int, **over) -> dict:
+    """Data of ``mo2015-tracking``: the event-triggered filter, random selection and all-send
+    on :func:`tracking`, one calibrated ``delta`` per target rate (the same tracks for all)."""
     v = settings("mo2015-tracking", SETTABLE_TRACKING, profile, over)
     model = tracking(v["sigma2"], v["r"])
     steps, rates = TRACKING["steps"], np.array(TRACKING["rates"])
@@ -603,7 +487,9 @@ def _rmse(mse, se):
     return rmse, se / (2 * rmse)
 
 
+@plot_doc()
 def plot_tracking(data: dict):
+    """Position (left) and velocity RMSE against transmissions per step, per scheme."""
     fig, axes = plotting.subplots(1, 2, stack=True)
     m = data["m"]
     names = ["position", "velocity"]
@@ -631,7 +517,10 @@ def plot_tracking(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_tracking(data: dict) -> list[Claim]:
+    """The rates, the trigger below random selection, the filters' exactness and all-send the
+    lower bound."""
     zd = data["diff"] / data["diff_stderr"]
     se_tot = np.sqrt(data["stochastic_rate_stderr"] ** 2 + data["calibration_stderr"] ** 2)
     rate_gap = np.abs(data["stochastic_rate"] - data["rate_target"])

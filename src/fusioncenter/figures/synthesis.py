@@ -26,7 +26,15 @@ import time
 import numpy as np
 
 from fusioncenter import censoring, event, plotting, synthesis
-from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.common import (
+    checks_doc,
+    compute_doc,
+    document,
+    plot_doc,
+    register_figure,
+    settings,
+    trials_parameter,
+)
 from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
 from fusioncenter.profile import by_profile
@@ -68,14 +76,28 @@ ENERGY_ITERATIONS = 3
 #: A z-score beyond this is a failed check (see mo2015.Z_TOL for the reasoning).
 Z_TOL = 4.0
 
+#: What the compute functions store for a group ``G`` of runs (one value per run of the group).
+_STATS = ("``G_rate``, ``G_arrived`` (transmissions, packets arrived per step), ``G_pos``, "
+          "``G_vel`` (time-averaged RMSE), each with ``G_*_se``, ``G_mse_state``, ``G_trace`` "
+          "(mean squared error, mean tr P: NaN for a PF); a paired difference ``D`` (RMSE, or "
+          "transmissions for ``rate_*``) as ``D`` and ``D_se``")
+
 
 def scenario() -> censoring.LinearScenario:
-    """The common problem (the defaults of :class:`fusioncenter.censoring.LinearScenario`)."""
+    """The common problem (the defaults of :class:`fusioncenter.censoring.LinearScenario`).
+
+    Returns
+    -------
+    fusioncenter.censoring.LinearScenario
+    """
     return censoring.LinearScenario(N=PROBLEM["N"], T=PROBLEM["T"], r=PROBLEM["r"],
                                     sigma2=PROBLEM["sigma2"], dt=PROBLEM["dt"],
                                     x0=tuple(PROBLEM["x0"]))
 
 
+@document(returns=("numpy.ndarray, shape (len(rates),)", "One ``delta`` per rate."),
+          raises=(), rates=("array_like of float", "Per-sensor target send rates in (0, 1)."),
+          n_trials=("int, optional", "Calibration tracks (default: by ``profile``)."))
 def calibrate(rates, profile: str, seed: int, n_trials: int | None = None) -> np.ndarray:
     """One trigger parameter ``delta`` per per-sensor target rate, the same for both sensors.
 
@@ -122,7 +144,14 @@ def _paired(a, b, out: dict, name: str, rate: bool = False) -> None:
 
 
 # ------------------------------------------------------------------------- synthesis-frontier
+@compute_doc("``l``, ``grid_target``, ``target`` (the grid, then the rates the PF schemes "
+             "reached), ``delta``, ``N``, ``n_trials``, ``n_particles``, ``seed``, "
+             "``calibration_tol``; for the groups ``cfomd``, ``cfwmd`` (per ``l``), ``allsend``, "
+             "``allsend_pf``, ``trigger_grid``, ``random_grid``, ``trigger_at_S``, "
+             "``random_at_S`` (``S`` a PF scheme): " + _STATS + " (``rate_trigger_minus_S``, "
+             "``S_minus_trigger``, ..., ``pf_minus_kf_allsend``); ``trigger_calibration(_se)``.")
 def compute_frontier(profile: str, seed: int, **over) -> dict:
+    """Data of ``synthesis-frontier``: every scheme on the same trials (KF schemes calibrated)."""
     sc = scenario()
     v = settings("synthesis-frontier", SETTABLE_FRONTIER, profile, over)
     n, n_p = v["trials"], v["particles"]
@@ -175,7 +204,9 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
     return out
 
 
+@plot_doc()
 def plot_frontier(data: dict):
+    """Position RMSE against measured transmissions per step (log scale, right: a zoom)."""
     fig, axes = plotting.subplots(1, 2, stack=True)
     for c, ax in enumerate(axes):
         for key, scheme, name in [("trigger_grid", "trigger",
@@ -213,7 +244,9 @@ def plot_frontier(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_frontier(data: dict) -> list[Claim]:
+    """Matched budgets, the schemes' orderings (paired z-scores), the filters' exactness."""
     def z(name):
         return data[name] / data[f"{name}_se"]
 
@@ -294,7 +327,14 @@ register_figure(
 
 
 # ------------------------------------------------------------------------------ synthesis-cost
+@compute_doc("``particles`` and ``particles_fine`` (the counts timed, the counts of the "
+             "model); ``kf_flops``, ``kf_special``, ``pf_flops_S`` (S in all-send, cfomd, "
+             "cfwmd), ``pf_special_cfwmd``, ``pf_flops_at`` (the operation-count model); "
+             "``kf_time``, ``pf_time_allsend``, ``pf_time_cfwmd`` (seconds per step and "
+             "trial); ``kf_rmse``, ``excess``, ``excess_se`` (all-send PF minus KF, paired); "
+             "``n_trials``, ``seed``.")
 def compute_cost(profile: str, seed: int, **over) -> dict:
+    """Data of ``synthesis-cost``: operations, times and the PF's excess error, by particles."""
     sc = scenario()
     n = settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
     particles = np.array(by_profile(profile, **COST_PARTICLES))
@@ -335,7 +375,9 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_cost(data: dict):
+    """Three panels: the operation count, the measured time and the excess RMSE."""
     fig, axes = plotting.subplots(1, 3, stack=True)
     ax = axes[0]
     fine = data["particles_fine"]
@@ -373,7 +415,9 @@ def plot_cost(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_cost(data: dict) -> list[Claim]:
+    """The operation-count claims and what the particles buy (the times are not checked)."""
     ratio = data["pf_flops_at"] / data["kf_flops"]
     big = data["particles"] >= 500
     fine = data["particles_fine"]
@@ -421,6 +465,12 @@ register_figure(
 
 
 # --------------------------------------------------------------------------- synthesis-fading
+@document(returns=(("allsend, random, trigger : list of fusioncenter.synthesis.Summary",
+                    "One run per outage of ``eps_full``."), ("design, measured : numpy.ndarray",
+                    "The trigger's per-sensor rate (the outages' design, then measured).")),
+          raises=(), sc=("fusioncenter.censoring.LinearScenario", "The problem."),
+          eps_full=("numpy.ndarray", "All-send's outages."), n=("int", "Trials per run."),
+          p=("float", "Random selection's send probability."), delta=("float", "The trigger's."))
 def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     """Energy-matched runs at all-send outage ``eps_full``: all-send at ``eps_full``, random
     selection and the trigger (CSI receiver) at ``energy_matched_outage(eps_full, rate)``, the
@@ -442,7 +492,15 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     return res[:k], res[k:], trig, used, rho
 
 
+@compute_doc("``outage``, ``gain_threshold``, ``p``, ``delta``, ``N``, ``l``, ``n_trials``, "
+             "``n_particles``, ``seed``; for the groups ``allsend``, ``random``, ``trigger_csi``, "
+             "``trigger_naive``, ``cfomd``, ``cfwmd_csi``, ``cfwmd_naive`` (per outage), "
+             "``energy_allsend``, ``energy_random``, ``energy_trigger`` (per "
+             "``energy_outage_full``): " + _STATS + " (``G_step``, ``G_rate_step``, "
+             "``G_rate_span``, ``cfwmd_naive_minus_csi``, ...); ``G_calibration(_se)``; "
+             "``energy_trigger_rho_design``, ``energy_trigger_rho``, ``energy_*_outage``.")
 def compute_fading(profile: str, seed: int, **over) -> dict:
+    """Data of ``synthesis-fading``: the schemes through Rayleigh block-fading links."""
     sc = scenario()
     v = settings("synthesis-fading", SETTABLE_FADING, profile, over)
     n, n_p = v["trials"], v["particles"]
@@ -513,7 +571,9 @@ _FADING_SERIES = [  # key, label, scheme (its look), line style (naive: dotted, 
 _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 
+@plot_doc()
 def plot_fading(data: dict):
+    """RMSE and packets against the outage, error against tr P, RMSE at equal energy."""
     fig, axes = plotting.subplots(2, 2, stack=True)
     (a, b), (c, d) = axes
     eps = data["outage"]
@@ -557,7 +617,9 @@ def plot_fading(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_fading(data: dict) -> list[Claim]:
+    """Outage monotonicity, naive receivers, exactness, packets spent, equal energy."""
     def z(name):
         with np.errstate(divide="ignore", invalid="ignore"):  # 0/0 where the runs coincide
             return data[name] / data[f"{name}_se"]

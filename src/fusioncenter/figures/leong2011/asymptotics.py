@@ -7,7 +7,13 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import plotting, power
-from fusioncenter.figures.common import register_figure, settings
+from fusioncenter.figures.common import (
+    checks_doc,
+    compute_doc,
+    plot_doc,
+    register_figure,
+    settings,
+)
 from fusioncenter.figures.leong2011.common import (
     CH_ASYMPTOTICS,
     FIG1,
@@ -18,23 +24,14 @@ from fusioncenter.figures.leong2011.common import (
 from fusioncenter.figures.registry import Claim
 
 
+@compute_doc("``M`` (M_max,) the numbers of sensors, ``S`` and ``P_inf`` the SNR and the "
+             "steady state (8) at each, ``P_iterated`` the fixed point of (4) by iteration, "
+             "``sigma_w2``, the limit and constant ``limit``, ``K`` of (13) and ``asymptotic`` "
+             "(M_max,) ``limit + K/M``.", profile="Unused: the figure is deterministic.",
+             seed="Unused.")
 def compute_fig1(profile: str, seed: int, **over) -> dict:
-    """Data of ``leong2011-fig1`` (deterministic: profile and seed do not matter).
-
-    Parameters
-    ----------
-    profile, seed
-        Unused: the figure is deterministic.
-    **over
-        Overrides of :data:`SETTABLE_FIG1` (the model of :data:`FIG1` and ``M_max``).
-
-    Returns
-    -------
-    dict
-        ``M`` (M_max,) the numbers of sensors, ``S`` and ``P_inf`` the SNR and the steady state
-        (8) at each, ``P_iterated`` the fixed point of (4) by iteration, ``sigma_w2``, the
-        limit and constant ``limit``, ``K`` of (13) and ``asymptotic`` (M_max,) ``limit + K/M``.
-    """
+    """Data of ``leong2011-fig1`` (deterministic: profile and seed do not matter); ``over``
+    sets the model of :data:`FIG1` and ``M_max`` (:data:`SETTABLE_FIG1`)."""
     v = settings("leong2011-fig1", SETTABLE_FIG1, profile, over)
     p = {**FIG1, **{k: x for k, x in v.items() if k != "M_max"}}
     M = np.arange(p["M"][0], v["M_max"] + 1)
@@ -54,7 +51,10 @@ def compute_fig1(profile: str, seed: int, **over) -> dict:
             "limit": float(limit), "K": float(K), "asymptotic": limit + K / M}
 
 
+@plot_doc()
 def plot_fig1(data: dict):
+    """(a) ``P_inf`` and ``sigma_w2 + K/M`` against M; (b) ``P_inf - sigma_w2`` against
+    ``K/M`` (log-log)."""
     fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
     M = data["M"]
     ax1.plot(M, data["P_inf"], label=r"$P_\infty$ (8)", **plotting.look(quantity="p-inf"))
@@ -75,7 +75,9 @@ def plot_fig1(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_fig1(data: dict) -> list[Claim]:
+    """The closed form (8), monotonicity in M, the 1/M law (13) and its accuracy at M = 20."""
     M, P, sw, K = data["M"], data["P_inf"], data["sigma_w2"], data["K"]
     scaled = M * (P - sw)
     err = np.abs(scaled - K)
@@ -107,23 +109,14 @@ def _fig2_sensors(seed: int, n: int):
     return h, c, sv
 
 
+@compute_doc("``M`` the numbers of sensors, ``P_inf`` the steady state with the first ``M`` "
+             "sensors, ``lower``, ``upper`` the bounds (37) and ``exact_lower``, "
+             "``exact_upper`` the exact bounds, ``sigma_w2``, the drawn ``h``, ``c``, "
+             "``sigma_v2`` (M_max,) and ``seed``.", profile="Unused.",
+             seed="Fixes the draw of the sensor parameters.")
 def compute_fig2(profile: str, seed: int, **over) -> dict:
-    """Data of ``leong2011-fig2``: one seeded draw of the sensors; the profile does not matter.
-
-    Parameters
-    ----------
-    profile, seed
-        The profile is unused; the seed fixes the draw of the sensor parameters.
-    **over
-        Overrides of :data:`SETTABLE_FIG2` (``a``, ``sigma_w2``, ``sigma_n2`` and ``M_max``).
-
-    Returns
-    -------
-    dict
-        ``M`` the numbers of sensors, ``P_inf`` the steady state with the first ``M`` sensors,
-        ``lower``, ``upper`` the bounds (37) and ``exact_lower``, ``exact_upper`` the exact
-        bounds, ``sigma_w2``, the drawn ``h``, ``c``, ``sigma_v2`` (M_max,) and ``seed``.
-    """
+    """Data of ``leong2011-fig2``: one seeded draw of the sensors; ``over`` sets ``a``,
+    ``sigma_w2``, ``sigma_n2`` and ``M_max`` (:data:`SETTABLE_FIG2`)."""
     v = settings("leong2011-fig2", SETTABLE_FIG2, profile, over)
     p = {**FIG2, **{k: x for k, x in v.items() if k != "M_max"}, "M": [FIG2["M"][0], v["M_max"]]}
     h, c, sv = _fig2_sensors(seed, v["M_max"])
@@ -139,7 +132,9 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
             "seed": seed}
 
 
+@plot_doc()
 def plot_fig2(data: dict):
+    """(a) ``P_inf`` between the bounds against M; (b) each bound's distance to ``P_inf``."""
     fig, (ax, ax2) = plotting.subplots(2, 1, stack=True)
     M = data["M"]
     curves = [("upper", "upper bound (37)", "upper-bound"),
@@ -169,7 +164,9 @@ def plot_fig2(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_fig2(data: dict) -> list[Claim]:
+    """``P_inf`` between the bounds (37) and the exact bounds; both bounds' 1/M rate."""
     M, P, sw = data["M"], data["P_inf"], data["sigma_w2"]
     # (37) drops O(1/M^2) terms: at M = 1 the lower bound exceeds P_inf for about 16 % of
     # draws (any seed), so the printed bounds are checked from M = 2 on, the exact ones at all M

@@ -126,6 +126,17 @@ SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per poi
                              dict(FADING["steps"]), minimum=2))
 
 
+#: The descriptions of the arguments that :func:`register_panels` binds in the compute functions
+#: of Figs. 3-6 (for :func:`fusioncenter.figures.common.compute_doc`); these computes read their
+#: overrides without checking them (:meth:`~fusioncenter.figures.registry.Entry.run_compute`
+#: does), so they raise nothing of their own.
+PANEL_DOC = {
+    "access": ('{"multi-access", "orthogonal"}', "The access scheme."),
+    "panel": ('{"a", "b"}', "Panel (a): the total power meeting the error target D = 2; (b): "
+              "the error under the sum-power budget gamma_total."),
+    "raises": (),
+}
+
 #: How a caption names each access scheme ("multi-access" already says "access").
 ACCESS_NAMES = {"multi-access": "Multi-access", "orthogonal": "Orthogonal access"}
 

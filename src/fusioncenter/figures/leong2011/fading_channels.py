@@ -9,9 +9,11 @@ import functools
 import numpy as np
 
 from fusioncenter import context, montecarlo, plotting, power
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.leong2011.common import (
     CH_FADING,
     FADING,
+    PANEL_DOC,
     SETTABLE_FADING,
     Z_TOL,
     draw_sensors,
@@ -134,7 +136,17 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
     return np.array(Ms), np.array(z), np.array(ratio), n
 
 
+@compute_doc("``M``, ``n_realizations``, ``steps``, ``seed``, ``access``, ``panel``; per M: "
+             "``csi``, ``nocsi`` (with ``*_stderr``) the mean power (a) or error variance (b) "
+             "with and without CSI, ``log_ratio(_stderr)`` the paired mean log(no-CSI / CSI), "
+             "``csi_wins``, ``loss_ratio``, ``max_residual_csi``, ``max_residual_nocsi`` (the "
+             "constraints), ``acceptance``; ``lmmse_M``, ``lmmse_z``, ``lmmse_mse_ratio``, "
+             "``lmmse_trials``, ``lmmse_steps`` (the check of (32)-(33)); orthogonal access "
+             "also ``multi_loss_ratio``, ``loss_diff(_stderr)``.", **PANEL_DOC,
+             over="Overrides of ``realizations`` and ``steps`` (:data:`SETTABLE_FADING`).")
 def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
+    """Data of ``leong2011-fig5a`` ... ``fig6b``: full CSI against no CSI on Rician fading,
+    per number of sensors (paired realizations)."""
     p = FADING
     n = over.get("realizations") or by_profile(profile, **p["realizations"])
     steps = over.get("steps") or by_profile(profile, **p["steps"])
@@ -171,7 +183,9 @@ def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) 
     return out
 
 
+@plot_doc()
 def plot_fading(data: dict):
+    """Mean (and 1.96 s.e.) of both schemes against M (log scale in panel (a))."""
     fig, ax = plotting.subplots(stack=True)
     M = data["M"]
     names = (["full CSI, greedy per step (time average)", "no CSI, linear MMSE (32) "
@@ -199,7 +213,10 @@ def plot_fading(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_fading(data: dict) -> list[Claim]:
+    """Full CSI beats no CSI, the constraints, the LMMSE variance (and, Fig. 6, the loss
+    compared with multi-access)."""
     z = data["log_ratio"] / data["log_ratio_stderr"]
     what = "sum power" if data["panel"] == "a" else "error variance"
     if data["panel"] == "a":

@@ -8,8 +8,10 @@ import functools
 import numpy as np
 
 from fusioncenter import context, montecarlo, plotting, power
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.leong2011.common import (
     CH_ALLOCATION,
+    PANEL_DOC,
     REL_TOL,
     SETTABLE_STATIC,
     STATIC,
@@ -125,7 +127,16 @@ def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
 
 
 
+@compute_doc("``M``, ``n_realizations``, ``seed``, ``access``, ``panel``; per M: ``optimal``, "
+             "``equal`` (with ``*_stderr``) the mean power (a) or steady-state error (b) of "
+             "both allocations, ``ratio_mean(_stderr)`` of equal / optimal, ``min_gap``, "
+             "``max_residual_optimal``, ``max_residual_equal`` (the constraints), "
+             "``acceptance``; ``solver_rel_gap`` (closed form against SLSQP); orthogonal access "
+             "also ``multi_ratio_mean``, ``benefit_diff(_stderr)``.", **PANEL_DOC,
+             over="Overrides of ``realizations`` (:data:`SETTABLE_STATIC`).")
 def compute_static(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
+    """Data of ``leong2011-fig3a`` ... ``fig4b``: optimal against equal power allocation on
+    static channels, per number of sensors (paired realizations)."""
     p = STATIC
     n = over.get("realizations") or by_profile(profile, **p["realizations"])
     other = access == "orthogonal"  # Fig. 4 also computes the multi-access benefit
@@ -160,7 +171,9 @@ _STATIC_Y = {"a": ("total transmit power $\\sum_i \\gamma_i$ (power units)", Tru
              "b": ("steady-state error variance $P_\\infty$ (state units$^2$)", False)}
 
 
+@plot_doc()
 def plot_static(data: dict):
+    """Mean (and 1.96 s.e.) of both allocations against M (log scale in panel (a))."""
     fig, ax = plotting.subplots(stack=True)
     M = data["M"]
     ylabel, logy = _STATIC_Y[data["panel"]]
@@ -180,7 +193,10 @@ def plot_static(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_static(data: dict) -> list[Claim]:
+    """The closed form against SLSQP, optimal never worse, the constraints, the trend in M
+    (and, Fig. 4, the benefit compared with multi-access)."""
     opt, se = data["optimal"], data["optimal_stderr"]
     what = "sum power" if data["panel"] == "a" else "P_inf"
     resid = "P_inf = D" if data["panel"] == "a" else "sum power = gamma_total"
