@@ -8,7 +8,14 @@ import numpy as np
 
 from fusioncenter import montecarlo, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import register_figure, settings, trials_parameter
+from fusioncenter.figures.common import (
+    checks_doc,
+    compute_doc,
+    plot_doc,
+    register_figure,
+    settings,
+    trials_parameter,
+)
 from fusioncenter.figures.registry import Claim
 from fusioncenter.kalman import constant_velocity
 
@@ -96,29 +103,18 @@ def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ------------------------------------------------------------------------ riccati convergence
+@compute_doc("``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction "
+             "variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form "
+             "limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector`` (steps + 1, "
+             "2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy`` the same "
+             "from filterpy, ``P_vector_inf`` (2, 2) the DARE solution; with an override, "
+             "``scalar`` (dict) the scalar system used.",
+             profile="Unused (deterministic).",
+             seed="Unused.")
 def compute_riccati(profile: str, seed: int, **over) -> dict:
     """Data of ``background-riccati``: the scalar and the vector Riccati recursions.
 
     Deterministic: the profile and the seed do not matter.
-
-    Parameters
-    ----------
-    profile : str
-        ``"fast"`` or ``"paper"`` (unused).
-    seed : int
-        Unused.
-    **over
-        Overrides of ``a``, ``q``, ``r`` of the scalar system (:data:`SETTABLE_RICCATI`).
-
-    Returns
-    -------
-    dict
-        ``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction
-        variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form
-        limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector``
-        (steps + 1, 2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy``
-        the same from filterpy, ``P_vector_inf`` (2, 2) the DARE solution; with an override,
-        ``scalar`` (dict) the scalar system used.
     """
     s = {**SCALAR, **settings("background-riccati", SETTABLE_RICCATI, profile, over)}
     k = np.arange(s["steps"] + 1)
@@ -144,18 +140,9 @@ def compute_riccati(profile: str, seed: int, **over) -> dict:
     return out
 
 
+@plot_doc()
 def plot_riccati(data: dict):
-    """The two panels of ``background-riccati``: scalar recursion, vector diagonal (log scale).
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_riccati`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """The two panels of ``background-riccati``: scalar recursion, vector diagonal (log scale)."""
     fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     s = data.get("scalar", SCALAR)
@@ -177,19 +164,9 @@ def plot_riccati(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc("Five claims, each with the measured gap in its detail.")
 def checks_riccati(data: dict) -> list[Claim]:
-    """Fixed point, DARE agreement, monotone convergence and agreement with filterpy.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_riccati`.
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        Five claims, each with the measured gap in its detail.
-    """
+    """Fixed point, DARE agreement, monotone convergence and agreement with filterpy."""
     p, p_inf = data["p_scalar"], data["p_scalar_inf"]
     gap = np.abs(p - p_inf)
     P, P_inf = data["P_vector"], data["P_vector_inf"]
@@ -238,28 +215,15 @@ def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
     return (xhat - x) ** 2
 
 
+@compute_doc("``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering "
+             "error of position and velocity and its standard error; ``n_trials`` and ``seed``; "
+             "``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and "
+             "``normalized_mse_stderr`` (float) the squared error divided by the Riccati "
+             "variance, averaged over steps and components (1 for a correct filter), with its "
+             "standard error over trials.",
+             profile='``"fast"`` (2 000 trials) or ``"paper"`` (50 000 trials).')
 def compute_mc(profile: str, seed: int, **over) -> dict:
-    """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati.
-
-    Parameters
-    ----------
-    profile : str
-        ``"fast"`` (2 000 trials) or ``"paper"`` (50 000 trials).
-    seed : int
-        Seed of :func:`fusioncenter.montecarlo.simulate`.
-    **over
-        Overrides of :data:`SETTABLE_MC` (``trials``, and the model's ``q``, ``r``).
-
-    Returns
-    -------
-    dict
-        ``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering error of
-        position and velocity and its standard error; ``n_trials`` and ``seed``;
-        ``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and
-        ``normalized_mse_stderr`` (float) the squared error divided by the Riccati variance,
-        averaged over steps and components (1 for a correct filter), with its standard error
-        over trials.
-    """
+    """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati."""
     steps = VECTOR["steps"]
     v = settings("background-kf-montecarlo", SETTABLE_MC, profile, over)
     n = v["trials"]
@@ -283,18 +247,9 @@ def compute_mc(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_mc(data: dict):
-    """Monte Carlo mean squared error with 95 % bands against the Riccati variances.
-
-    Parameters
-    ----------
-    data : dict
-        The data of ``background-kf-montecarlo`` (:func:`compute_mc`).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """Monte Carlo mean squared error with 95 % bands against the Riccati variances."""
     fig, ax = plotting.subplots(stack=True)
     k = data["k"]
     for i, name in enumerate(["position (m$^2$)", "velocity (m$^2$/s$^2$)"]):
@@ -310,20 +265,10 @@ def plot_mc(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc("Two claims: every z-score below 4.5, and the normalized error within 4 standard "
+            "errors of 1.")
 def checks_mc(data: dict) -> list[Claim]:
-    """The simulated errors agree with the Riccati variances, step by step and on average.
-
-    Parameters
-    ----------
-    data : dict
-        What :func:`compute_mc` returns.
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        Two claims: every z-score below 4.5, and the normalized error within 4 standard errors
-        of 1.
-    """
+    """The simulated errors agree with the Riccati variances, step by step and on average."""
     z = (data["mse"] - data["riccati_diag"]) / data["stderr"]
     # 62 z-scores: under a correct filter each is ~N(0, 1), so |z| < 4.5 everywhere fails by
     # chance with probability < 62 * 7e-6 = 4e-4.

@@ -10,7 +10,7 @@ import scipy.stats
 
 from fusioncenter import fading, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import register_figure, settings
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc, register_figure, settings
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_DIST,
@@ -40,30 +40,17 @@ SETTABLE_DIST = (
 )
 
 
+@compute_doc("Settings ``k``, ``levels`` (the quantile levels of :data:`DIST`), ``n_paths``, "
+             "``n_alt_paths``, ``seed``, ``p0``, ``p0_alt``, ``laws``, ``bins`` (61,) and "
+             "``lower_envelope`` (101,) the perfect-channel Riccati sequence; for each law ``L`` "
+             'in ("rayleigh", "nakagami"): ``L_quantiles`` (5, 101), ``L_mean``, ``L_stderr``, '
+             "``L_s`` (101,), ``L_density`` (60,) a histogram of p_100, and the scalars "
+             "``L_min_rel_gap``, ``L_ks_time``, ``L_ks_p0`` (KS p-values), ``L_above_mean``, "
+             "``L_max``, ``L_cdf_lo``, ``L_sf_hi``; the pooled 5 % and 95 % quantiles ``x_lo``, "
+             "``x_hi``, and the survival functions ``L_sf`` (40,) on the grid ``sf_x``.",
+             profile="Sets the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).")
 def compute_distribution(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws.
-
-    Parameters
-    ----------
-    profile : str
-        ``"fast"`` or ``"paper"``: the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).
-    seed : int
-        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
-    **over
-        Overrides of :data:`SETTABLE_DIST`.
-
-    Returns
-    -------
-    dict
-        Settings ``k``, ``levels`` (the quantile levels of :data:`DIST`), ``n_paths``,
-        ``n_alt_paths``, ``seed``, ``p0``, ``p0_alt``, ``laws``, ``bins`` (61,) and
-        ``lower_envelope`` (101,) the perfect-channel Riccati sequence; for each law ``L`` in
-        ("rayleigh", "nakagami"): ``L_quantiles`` (5, 101), ``L_mean``, ``L_stderr``, ``L_s``
-        (101,), ``L_density`` (60,) a histogram of p_100, and the scalars ``L_min_rel_gap``,
-        ``L_ks_time``, ``L_ks_p0`` (KS p-values), ``L_above_mean``, ``L_max``,
-        ``L_cdf_lo``, ``L_sf_hi``; the pooled 5 % and 95 % quantiles ``x_lo``, ``x_hi``, and
-        the survival functions ``L_sf`` (40,) on the grid ``sf_x``.
-    """
+    """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws."""
     s = SCALAR
     v = settings("dey2009-distribution", SETTABLE_DIST, profile, over)
     sv2 = v["sigma_v"] ** 2
@@ -114,18 +101,9 @@ def compute_distribution(profile: str, seed: int, **over) -> dict:
     return out
 
 
+@plot_doc()
 def plot_distribution(data: dict):
-    """Quantile bands over time, the stationary density and its right tail, both laws.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_distribution`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """Quantile bands over time, the stationary density and its right tail, both laws."""
     fig, axes = plotting.subplots(1, 3, stack=True)
     k = data["k"]
     lv = data["levels"]
@@ -164,19 +142,9 @@ def plot_distribution(data: dict):
                            rf" $\lambda = {SCALAR['lam']:g}$, $E[p_0] = {data['p0']:g}$")
 
 
+@checks_doc("One claim per statement, with the measured p-values, fractions or z-scores.")
 def checks_distribution(data: dict) -> list[Claim]:
-    """Lower envelope, stationarity, independence of p_0, skewness and the tails.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_distribution` (or a corrupted copy, in the tests).
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        One claim per statement, with the measured p-values, fractions or z-scores.
-    """
+    """Lower envelope, stationarity, independence of p_0, skewness and the tails."""
     n = data["n_paths"]
     claims = [
         Claim("every sampled p_k is above the sure lower envelope (the Riccati recursion of a "

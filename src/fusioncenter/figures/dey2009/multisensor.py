@@ -9,7 +9,7 @@ import itertools
 import numpy as np
 
 from fusioncenter import fading, plotting
-from fusioncenter.figures.common import register_figure
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc, register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_MULTI,
@@ -53,56 +53,28 @@ def _compute_multi(access: str, profile: str, seed: int, **over) -> dict:
     return data
 
 
+@compute_doc('``access`` (``"multi-access"``); ``k`` (101,); ``lams`` (3, 2) the settings of '
+             ":data:`LAMS`; ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows): "
+             "``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101) "
+             "the worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their "
+             "fixed points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed "
+             "``grid_`` (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of "
+             ":data:`LAM_GRID`.",
+             profile="Sets the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).")
 def compute_fig3(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-fig3``: two sensors, multi-access channel, E[p_k] against s_k, t_k.
-
-    Parameters
-    ----------
-    profile, seed, **over
-        The profile (it sets the paths, :data:`PATHS` and :data:`GRID_PATHS`), the seed of
-        the first run (the others add an offset) and the overrides of :data:`SETTABLE_PATHS`.
-
-    Returns
-    -------
-    dict
-        ``access`` (``"multi-access"``); ``k`` (101,); ``lams`` (3, 2) the settings of :data:`LAMS`;
-        ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows): ``mean``,
-        ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101) the
-        worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their fixed
-        points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed ``grid_``
-        (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of :data:`LAM_GRID`.
-    """
+    """Data of ``dey2009-fig3``: two sensors, multi-access channel, E[p_k] against s_k, t_k."""
     return _compute_multi("multi-access", profile, seed, **over)
 
 
+@compute_doc('The keys of :func:`compute_fig3`, with ``access`` ``"orthogonal"``.')
 def compute_fig4(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-fig4``: two sensors, orthogonal channels, E[p_k] against s_k, t_k.
-
-    Parameters
-    ----------
-    profile, seed, **over
-        As for :func:`compute_fig3`.
-
-    Returns
-    -------
-    dict
-        The keys of :func:`compute_fig3`, with ``access`` ``"orthogonal"``.
-    """
+    """Data of ``dey2009-fig4``: two sensors, orthogonal channels, E[p_k] against s_k, t_k."""
     return _compute_multi("orthogonal", profile, seed, **over)
 
 
+@plot_doc()
 def plot_multi(data: dict):
-    """Figs. 3 and 4: one panel per (lambda_1, lambda_2), and which bound is tighter on the grid.
-
-    Parameters
-    ----------
-    data : dict
-        Fig. 3's or Fig. 4's data (:func:`compute_fig3`, :func:`compute_fig4`).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """Figs. 3 and 4: one panel per (lambda_1, lambda_2), and which bound is tighter on the grid."""
     fig, axes = plotting.subplots(2, 2, stack=True)
     k = data["k"]
     for i, (ax, (l1, l2)) in enumerate(zip(axes.flat, data["lams"], strict=False)):
@@ -142,20 +114,10 @@ def _tighter(s, t) -> tuple[bool, bool]:
     return bool(np.any(s < t * (1 - 1e-3))), bool(np.any(t < s * (1 - 1e-3)))
 
 
+@checks_doc("Dominance and convergence of ``s_k`` and ``t_k``, stationarity, and that each bound "
+            "is the tighter one in some setting (main settings and grid).")
 def checks_multi(data: dict) -> list[Claim]:
-    """The claims of Figs. 3 and 4: both bounds dominate E[p_k], converge, and either can win.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_fig3` or :func:`compute_fig4`.
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        Dominance and convergence of ``s_k`` and ``t_k``, stationarity, and that each bound is
-        the tighter one in some setting (main settings and grid).
-    """
+    """The claims of Figs. 3 and 4: both bounds dominate E[p_k], converge, and either can win."""
     s_wins, t_wins = _tighter(data["s_limit"], data["t_limit"])
     gs, gt = _tighter(data["grid_s_limit"], data["grid_t_limit"])
     return [

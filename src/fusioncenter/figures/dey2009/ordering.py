@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter import fading, plotting
-from fusioncenter.figures.common import register_figure
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc, register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_MULTI,
@@ -27,28 +27,18 @@ from fusioncenter.figures.dey2009.common import (
 from fusioncenter.figures.registry import Claim
 
 
+@compute_doc("Settings ``k``, ``lam1``, ``lam2`` (the swept lambda_2 of :data:`ORDERING`), "
+             "``main_lam2``, ``n_paths``, ``n_grid_paths``, ``seed``, ``p0``, ``worst_sensor``; "
+             "at the main setting (101,) each: ``ma_mean``, ``ma_stderr``, ``orth_mean``, "
+             "``orth_stderr`` (Monte Carlo E[p_k] of both schemes), ``alone_mean``, "
+             "``alone_stderr`` (sensor 1 alone), ``s_valid`` (the bound with the worst sensor "
+             "last, (22) holds), ``s_sensor1_last`` and ``s_sensor2_last`` (one sensor last), "
+             "``t_ma``, ``t_orth``; and the same prefixed ``sweep_`` with one row per lambda_2 "
+             "(7, 101), without the sensor-alone run.",
+             profile="Sets the paths (:data:`PATHS` at the main setting, :data:`GRID_PATHS` per "
+                     "point of the sweep).")
 def compute_ordering(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-ordering``: the multi-access bound with and without ordering (22).
-
-    Parameters
-    ----------
-    profile, seed
-        The profile fixes the paths (:data:`PATHS` at the main setting, :data:`GRID_PATHS` per
-        point of the sweep); the seed is that of the main runs (the sweep adds offsets).
-    **over
-        Overrides of :data:`SETTABLE_PATHS` (``grid_paths``: the paths of the sweep).
-
-    Returns
-    -------
-    dict
-        Settings ``k``, ``lam1``, ``lam2`` (the swept lambda_2 of :data:`ORDERING`),
-        ``main_lam2``, ``n_paths``, ``n_grid_paths``, ``seed``, ``p0``, ``worst_sensor``; at
-        the main setting (101,) each: ``ma_mean``, ``ma_stderr``, ``orth_mean``, ``orth_stderr``
-        (Monte Carlo E[p_k] of both schemes), ``alone_mean``, ``alone_stderr`` (sensor 1 alone),
-        ``s_valid`` (the bound with the worst sensor last, (22) holds), ``s_sensor1_last`` and
-        ``s_sensor2_last`` (one sensor last), ``t_ma``, ``t_orth``; and the same prefixed
-        ``sweep_`` with one row per lambda_2 (7, 101), without the sensor-alone run.
-    """
+    """Data of ``dey2009-ordering``: the multi-access bound with and without ordering (22)."""
     m = MULTI
     n, ng = mc_paths(profile, over)
     lam1 = ORDERING["lam1"]
@@ -95,18 +85,9 @@ def compute_ordering(profile: str, seed: int, **over) -> dict:
     return out
 
 
+@plot_doc()
 def plot_ordering(data: dict):
-    """The violated bound at the main setting (left) and steady states against lambda_2.
-
-    Parameters
-    ----------
-    data : dict
-        What :func:`compute_ordering` returns.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """The violated bound at the main setting (left) and steady states against lambda_2."""
     fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     c = plotting.OKABE_ITO
@@ -141,20 +122,10 @@ def plot_ordering(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc("The violation of the wrongly ordered bound, the validity of the ordered one and of "
+            "the orthogonal bounds, and the comparisons with sensor 1 alone.")
 def checks_ordering(data: dict) -> list[Claim]:
-    """What ordering (22) protects: the bound with the best sensor last fails on multi-access.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_ordering` (or a corrupted copy, in the tests).
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        The violation of the wrongly ordered bound, the validity of the ordered one and of
-        the orthogonal bounds, and the comparisons with sensor 1 alone.
-    """
+    """What ordering (22) protects: the bound with the best sensor last fails on multi-access."""
     zviol = excess_z(data["ma_mean"][1:], data["ma_stderr"][1:], data["s_sensor1_last"][1:])
     zalone = ((data["ma_mean"][-1] - data["alone_mean"][-1])
               / np.hypot(data["ma_stderr"][-1], data["alone_stderr"][-1]))

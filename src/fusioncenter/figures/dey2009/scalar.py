@@ -9,7 +9,7 @@ import itertools
 import numpy as np
 
 from fusioncenter import fading, plotting
-from fusioncenter.figures.common import register_figure
+from fusioncenter.figures.common import compute_doc, plot_doc, register_figure
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_SCALAR,
@@ -77,49 +77,26 @@ def _compute_scalar(kind: str, profile: str, seed: int, **over) -> dict:
     return data
 
 
+@compute_doc('``kind`` (``"rayleigh"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0`` '
+             "the settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``, "
+             "``seed``; for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo "
+             "``E[p_k]`` and its standard error, ``s``, ``q`` (3, 101) the tight and loose bound "
+             "sequences and ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and "
+             "``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same "
+             "arrays prefixed ``grid_`` (no window statistic) for the settings ``grid_sigma_v``, "
+             "``grid_p0`` of :data:`SCALAR_GRID`.",
+             profile="Sets the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).")
 def compute_fig1(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-fig1``: one sensor, Rayleigh fading, E[p_k] against (17)-(18).
-
-    Parameters
-    ----------
-    profile : str
-        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).
-    seed : int
-        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
-    **over
-        Overrides of the entry's settable parameters (see ``Entry.settable``).
-
-    Returns
-    -------
-    dict
-        ``kind`` (``"rayleigh"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0`` the
-        settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``, ``seed``;
-        for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]`` and its
-        standard error, ``s``, ``q`` (3, 101) the tight and loose bound sequences and
-        ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and
-        ``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same
-        arrays prefixed ``grid_`` (no window statistic) for the settings
-        ``grid_sigma_v``, ``grid_p0`` of :data:`SCALAR_GRID`.
-    """
+    """Data of ``dey2009-fig1``: one sensor, Rayleigh fading, E[p_k] against (17)-(18)."""
     return _compute_scalar("rayleigh", profile, seed, **over)
 
 
+@compute_doc('The keys of :func:`compute_fig1` (``kind`` ``"nakagami"``), and also '
+             "``rayleigh_mean``, ``rayleigh_stderr``, ``rayleigh_s``, ... (Fig. 1's runs, for the "
+             "comparison), ``grid_rayleigh_s`` and ``q_as_printed`` (3, 101), the loose bound "
+             "with the paper's printed (20).")
 def compute_fig2(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-fig2``: one sensor, Nakagami(1/2) fading, E[p_k] against (19)-(20).
-
-    Parameters
-    ----------
-    profile, seed, **over
-        As for :func:`compute_fig1`.
-
-    Returns
-    -------
-    dict
-        The keys of :func:`compute_fig1` (``kind`` ``"nakagami"``), and also
-        ``rayleigh_mean``, ``rayleigh_stderr``, ``rayleigh_s``, ... (Fig. 1's runs, for the
-        comparison), ``grid_rayleigh_s`` and ``q_as_printed`` (3, 101), the loose bound with
-        the paper's printed (20).
-    """
+    """Data of ``dey2009-fig2``: one sensor, Nakagami(1/2) fading, E[p_k] against (19)-(20)."""
     return _compute_scalar("nakagami", profile, seed, **over)
 
 
@@ -162,33 +139,15 @@ def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
     return plotting.finish(fig)
 
 
+@plot_doc()
 def plot_fig1(data: dict):
-    """Fig. 1: E[p_k] with its bounds per sigma_v (left), ratios on the alternative grid.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_fig1`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """Fig. 1: E[p_k] with its bounds per sigma_v (left), ratios on the alternative grid."""
     return _plot_scalar(data, ("$s_k$ (17)", "$q_k$ (18)"), "Rayleigh")
 
 
+@plot_doc()
 def plot_fig2(data: dict):
-    """Fig. 2: as :func:`plot_fig1` for Nakagami(1/2), with Fig. 1's means for comparison.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_fig2`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """Fig. 2: as :func:`plot_fig1` for Nakagami(1/2), with Fig. 1's means for comparison."""
     return _plot_scalar(data, (r"$\tilde s_k$ (19)", r"$\tilde q_k$ (20)"), "Nakagami(1/2)")
 
 

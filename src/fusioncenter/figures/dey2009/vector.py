@@ -12,7 +12,7 @@ import scipy.stats
 
 from fusioncenter import fading, plotting
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import register_figure, settings
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc, register_figure, settings
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
     CH_VECTOR,
@@ -57,29 +57,17 @@ def _theorem33_by_quadrature(Z, A, c, Sw, sv2, sn2, lam) -> np.ndarray:
     return out
 
 
+@compute_doc("``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the "
+             "Monte Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the "
+             "bounding sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``, "
+             "``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and "
+             "v'Zbar_k v; ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which "
+             "``Z_next_quadrature`` (5, 2, 2) evaluates Theorem 3.3's recursion (14) by "
+             "quadrature; ``window_diff`` and ``window_diff_stderr`` (float) for the trace; with "
+             "``lam`` overridden, ``lam``.",
+             profile="Sets the number of paths (:data:`PATHS`).")
 def compute_vector(profile: str, seed: int, **over) -> dict:
-    """Data of ``dey2009-vector``: E[P_k] of the 2-state example against Zbar_k (Section 3.2).
-
-    Parameters
-    ----------
-    profile : str
-        ``"fast"`` or ``"paper"``: the number of paths (:data:`PATHS`).
-    seed : int
-        Seed of the first Monte Carlo run; later runs use ``seed + offset``.
-    **over
-        Overrides of :data:`SETTABLE_VECTOR`.
-
-    Returns
-    -------
-    dict
-        ``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the Monte
-        Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the bounding
-        sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``,
-        ``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and v'Zbar_k v;
-        ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which ``Z_next_quadrature``
-        (5, 2, 2) evaluates Theorem 3.3's recursion (14) by quadrature; ``window_diff`` and
-        ``window_diff_stderr`` (float) for the trace; with ``lam`` overridden, ``lam``.
-    """
+    """Data of ``dey2009-vector``: E[P_k] of the 2-state example against Zbar_k (Section 3.2)."""
     v = settings("dey2009-vector", SETTABLE_VECTOR, profile, over)
     A, c, Sw, sv2, sn2, ch, P0m = _vector_model(v["lam"])
     n = v["paths"]
@@ -111,18 +99,9 @@ def compute_vector(profile: str, seed: int, **over) -> dict:
     return out
 
 
+@plot_doc()
 def plot_vector(data: dict):
-    """The entries of E[P_k] against Zbar_k (left) and the PSD order by direction (right).
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_vector`.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """The entries of E[P_k] against Zbar_k (left) and the PSD order by direction (right)."""
     fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     names = [(0, (0, 0), "$[E P_k]_{11}$", r"$\bar Z_{k,11}$"),
@@ -149,19 +128,9 @@ def plot_vector(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc("One claim per statement, each with the measured z-score or difference.")
 def checks_vector(data: dict) -> list[Claim]:
-    """E[P_k] <= Zbar_k in the PSD order, exactness at k = 1, the closed form, convergence.
-
-    Parameters
-    ----------
-    data : dict
-        The output of :func:`compute_vector` (or a corrupted copy, in the tests).
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        One claim per statement, each with the measured z-score or difference.
-    """
+    """E[P_k] <= Zbar_k in the PSD order, exactness at k = 1, the closed form, convergence."""
     Z = data["Z"]
     iu = np.triu_indices(2)
     z1 = abs_z(data["mean_triu"][1], data["stderr_triu"][1], Z[1][iu])
