@@ -103,12 +103,12 @@ def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ------------------------------------------------------------------------ riccati convergence
-@compute_doc("``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction "
-             "variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form "
-             "limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector`` (steps + 1, "
-             "2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy`` the same "
-             "from filterpy, ``P_vector_inf`` (2, 2) the DARE solution; with an override, "
-             "``scalar`` (dict) the scalar system used.",
+@compute_doc("""``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction
+             variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form
+             limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector`` (steps + 1,
+             2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy`` the same
+             from filterpy, ``P_vector_inf`` (2, 2) the DARE solution; with an override,
+             ``scalar`` (dict) the scalar system used.""",
              profile="Unused (deterministic).",
              seed="Unused.")
 def compute_riccati(profile: str, seed: int, **over) -> dict:
@@ -215,12 +215,12 @@ def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
     return (xhat - x) ** 2
 
 
-@compute_doc("``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering "
-             "error of position and velocity and its standard error; ``n_trials`` and ``seed``; "
-             "``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and "
-             "``normalized_mse_stderr`` (float) the squared error divided by the Riccati "
-             "variance, averaged over steps and components (1 for a correct filter), with its "
-             "standard error over trials.",
+@compute_doc("""``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering
+             error of position and velocity and its standard error; ``n_trials`` and ``seed``;
+             ``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and
+             ``normalized_mse_stderr`` (float) the squared error divided by the Riccati variance,
+             averaged over steps and components (1 for a correct filter), with its standard error
+             over trials.""",
              profile='``"fast"`` (2 000 trials) or ``"paper"`` (50 000 trials).')
 def compute_mc(profile: str, seed: int, **over) -> dict:
     """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati."""
@@ -265,8 +265,8 @@ def plot_mc(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc("Two claims: every z-score below 4.5, and the normalized error within 4 standard "
-            "errors of 1.")
+@checks_doc("""Two claims: every z-score below 4.5, and the normalized error within 4 standard
+            errors of 1.""")
 def checks_mc(data: dict) -> list[Claim]:
     """The simulated errors agree with the Riccati variances, step by step and on average."""
     z = (data["mse"] - data["riccati_diag"]) / data["stderr"]

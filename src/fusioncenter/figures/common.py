@@ -16,6 +16,7 @@ the entry (the data's keys, the figure's panels, the claims).
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 
 from fusioncenter import context
@@ -52,7 +53,8 @@ def compute_doc(returns: str, **overrides) -> Callable:
     Parameters
     ----------
     returns : str
-        What the returned ``dict`` holds (its keys).
+        What the returned ``dict`` holds (its keys); a triple-quoted string may continue on
+        indented lines (:func:`inspect.cleandoc` removes the indentation).
     **overrides
         Descriptions of arguments particular to this function (``name=(type, text)``).
 
@@ -61,7 +63,7 @@ def compute_doc(returns: str, **overrides) -> Callable:
     Callable
         The decorator (:meth:`fusioncenter._docstrings.Glossary.__call__`).
     """
-    return document(returns=("dict", returns), **overrides)
+    return document(returns=("dict", inspect.cleandoc(returns)), **overrides)
 
 
 def plot_doc(returns: str = "The figure (:func:`fusioncenter.plotting.finish` applied).",
@@ -80,7 +82,8 @@ def plot_doc(returns: str = "The figure (:func:`fusioncenter.plotting.finish` ap
     Callable
         The decorator.
     """
-    return document(returns=("matplotlib.figure.Figure", returns), raises=(), **overrides)
+    return document(returns=("matplotlib.figure.Figure", inspect.cleandoc(returns)), raises=(),
+                    **overrides)
 
 
 def checks_doc(returns: str = "One claim per statement of the paper checked on the data, "
@@ -99,7 +102,8 @@ def checks_doc(returns: str = "One claim per statement of the paper checked on t
     Callable
         The decorator.
     """
-    return document(returns=("list of fusioncenter.figures.registry.Claim", returns), raises=(),
+    return document(returns=("list of fusioncenter.figures.registry.Claim",
+                             inspect.cleandoc(returns)), raises=(),
                     **overrides)
 
 

@@ -28,7 +28,6 @@ from fusioncenter.context import Parameter
 from fusioncenter.figures.common import (
     checks_doc,
     compute_doc,
-    document,
     plot_doc,
     register_figure,
     settings,
@@ -38,6 +37,7 @@ from fusioncenter.figures.mo2015_static import (  # noqa: F401 (re-exported for 
     EXAMPLE,
     all_silent_probability,
     conditional_chunk,
+    document,
     draw_example,
     drop_covariances,
     drop_posterior,
@@ -111,13 +111,12 @@ def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
     return np.stack([g0, g1], axis=2).astype(float)
 
 
-@compute_doc("``s`` (m,) the output variances and ``mu`` (m,) the prior means ``a_i xbar``; "
-             "``delta_fine`` (201,) and on it ``rate_zero_mean``, ``rate_xbar`` (201, m) the "
-             "closed-form rates, ``rate_notes`` the notes' formula, ``delta_back_zero_mean``, "
-             "``delta_back_xbar`` the deltas recovered from the rates; ``delta_mc`` (D,) "
-             "and ``rate_mc``, ``rate_mc_stderr``, ``rate_closed_at_mc`` (D, 2, m) the "
-             "simulated and closed-form rates (prior mean 0, then ``xbar``); ``n_trials``, "
-             "``seed``.")
+@compute_doc("""``s`` (m,) the output variances and ``mu`` (m,) the prior means ``a_i xbar``;
+             ``delta_fine`` (201,) and on it ``rate_zero_mean``, ``rate_xbar`` (201, m) the
+             closed-form rates, ``rate_notes`` the notes' formula, ``delta_back_zero_mean``,
+             ``delta_back_xbar`` the deltas recovered from the rates; ``delta_mc`` (D,) and
+             ``rate_mc``, ``rate_mc_stderr``, ``rate_closed_at_mc`` (D, 2, m) the simulated and
+             closed-form rates (prior mean 0, then ``xbar``); ``n_trials``, ``seed``.""")
 def compute_rate(profile: str, seed: int, **over) -> dict:
     """Data of ``mo2015-rate``: each sensor's communication rate against ``delta``, in closed
     form and by simulation (the same draws at every ``delta``), for prior mean 0 and ``xbar``."""
@@ -258,13 +257,13 @@ def _tradeoff_chunk(rng: np.random.Generator, n: int, *, rates, deltas) -> np.nd
     return np.stack(cols, axis=1)
 
 
-@compute_doc("``rate_fine`` (49,) with ``mse_exact_stochastic_fine``, ``mse_exact_random_fine`` "
-             "the exact MSE curves; at the Monte Carlo rates ``rate`` (L,) (``delta`` (L, m)): "
-             "``mse_exact_*``, and for ``stochastic`` and ``random`` the simulated ``mse_*``, "
-             "``rate_*`` (and ``trP_stochastic``), each with ``*_stderr``; ``diff`` and "
-             "``resid`` (paired trigger minus random, squared error minus tr P) with their "
-             "``*_stderr``; ``trace_all_send``, ``trace_prior``, ``mse_all_send(_stderr)``, "
-             "``pattern_prob_sum`` (L,), ``n_trials``, ``seed``.")
+@compute_doc("""``rate_fine`` (49,) with ``mse_exact_stochastic_fine``, ``mse_exact_random_fine``
+             the exact MSE curves; at the Monte Carlo rates ``rate`` (L,) (``delta`` (L, m)):
+             ``mse_exact_*``, and for ``stochastic`` and ``random`` the simulated ``mse_*``,
+             ``rate_*`` (and ``trP_stochastic``), each with ``*_stderr``; ``diff`` and ``resid``
+             (paired trigger minus random, squared error minus tr P) with their ``*_stderr``;
+             ``trace_all_send``, ``trace_prior``, ``mse_all_send(_stderr)``, ``pattern_prob_sum``
+             (L,), ``n_trials``, ``seed``.""")
 def compute_tradeoff(profile: str, seed: int, **over) -> dict:
     """Data of ``mo2015-tradeoff``: mean squared error against rate on :data:`EXAMPLE`, exact
     and simulated (the same draws for every scheme and rate)."""
@@ -432,13 +431,13 @@ def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> di
     }
 
 
-@compute_doc("``k``, ``rate_target`` (R,), the calibrated ``delta`` (R,) with "
-             "``calibration_rate``, ``calibration_stderr``, ``calibration_tol``; ``m``, "
-             "``n_trials``, ``n_calibration``, ``seed``; per scheme (``stochastic_*``, "
-             "``random_*``: one row per rate; ``all_send_*``) the per-step ``mse_k``, ``p_k``, "
-             "``resid_k``, the time averages ``mse``, ``p_avg``, the measured ``rate`` and "
-             "``send_prob`` (``mse_k``, ``resid_k``, ``mse``, ``rate`` with ``*_stderr``); "
-             "``diff`` and ``allsend_minus_stochastic`` (paired, with ``*_stderr``).")
+@compute_doc("""``k``, ``rate_target`` (R,), the calibrated ``delta`` (R,) with
+             ``calibration_rate``, ``calibration_stderr``, ``calibration_tol``; ``m``,
+             ``n_trials``, ``n_calibration``, ``seed``; per scheme (``stochastic_*``,
+             ``random_*``: one row per rate; ``all_send_*``) the per-step ``mse_k``, ``p_k``,
+             ``resid_k``, the time averages ``mse``, ``p_avg``, the measured ``rate`` and
+             ``send_prob`` (``mse_k``, ``resid_k``, ``mse``, ``rate`` with ``*_stderr``);
+             ``diff`` and ``allsend_minus_stochastic`` (paired, with ``*_stderr``).""")
 def compute_tracking(profile: str, seed: int, **over) -> dict:
     """Data of ``mo2015-tracking``: the event-triggered filter, random selection and all-send
     on :func:`tracking`, one calibrated ``delta`` per target rate (the same tracks for all)."""

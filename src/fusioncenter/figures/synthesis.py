@@ -144,12 +144,12 @@ def _paired(a, b, out: dict, name: str, rate: bool = False) -> None:
 
 
 # ------------------------------------------------------------------------- synthesis-frontier
-@compute_doc("``l``, ``grid_target``, ``target`` (the grid, then the rates the PF schemes "
-             "reached), ``delta``, ``N``, ``n_trials``, ``n_particles``, ``seed``, "
-             "``calibration_tol``; for the groups ``cfomd``, ``cfwmd`` (per ``l``), ``allsend``, "
-             "``allsend_pf``, ``trigger_grid``, ``random_grid``, ``trigger_at_S``, "
-             "``random_at_S`` (``S`` a PF scheme): " + _STATS + " (``rate_trigger_minus_S``, "
-             "``S_minus_trigger``, ..., ``pf_minus_kf_allsend``); ``trigger_calibration(_se)``.")
+@compute_doc(f"""``l``, ``grid_target``, ``target`` (the grid, then the rates the PF schemes
+              reached), ``delta``, ``N``, ``n_trials``, ``n_particles``, ``seed``,
+              ``calibration_tol``; for the groups ``cfomd``, ``cfwmd`` (per ``l``), ``allsend``,
+              ``allsend_pf``, ``trigger_grid``, ``random_grid``, ``trigger_at_S``,
+              ``random_at_S`` (``S`` a PF scheme): {_STATS} (``rate_trigger_minus_S``,
+              ``S_minus_trigger``, ..., ``pf_minus_kf_allsend``); ``trigger_calibration(_se)``.""")
 def compute_frontier(profile: str, seed: int, **over) -> dict:
     """Data of ``synthesis-frontier``: every scheme on the same trials (KF schemes calibrated)."""
     sc = scenario()
@@ -327,12 +327,11 @@ register_figure(
 
 
 # ------------------------------------------------------------------------------ synthesis-cost
-@compute_doc("``particles`` and ``particles_fine`` (the counts timed, the counts of the "
-             "model); ``kf_flops``, ``kf_special``, ``pf_flops_S`` (S in all-send, cfomd, "
-             "cfwmd), ``pf_special_cfwmd``, ``pf_flops_at`` (the operation-count model); "
-             "``kf_time``, ``pf_time_allsend``, ``pf_time_cfwmd`` (seconds per step and "
-             "trial); ``kf_rmse``, ``excess``, ``excess_se`` (all-send PF minus KF, paired); "
-             "``n_trials``, ``seed``.")
+@compute_doc("""``particles`` and ``particles_fine`` (the counts timed, the counts of the model);
+             ``kf_flops``, ``kf_special``, ``pf_flops_S`` (S in all-send, cfomd, cfwmd),
+             ``pf_special_cfwmd``, ``pf_flops_at`` (the operation-count model); ``kf_time``,
+             ``pf_time_allsend``, ``pf_time_cfwmd`` (seconds per step and trial); ``kf_rmse``,
+             ``excess``, ``excess_se`` (all-send PF minus KF, paired); ``n_trials``, ``seed``.""")
 def compute_cost(profile: str, seed: int, **over) -> dict:
     """Data of ``synthesis-cost``: operations, times and the PF's excess error, by particles."""
     sc = scenario()
@@ -492,13 +491,13 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     return res[:k], res[k:], trig, used, rho
 
 
-@compute_doc("``outage``, ``gain_threshold``, ``p``, ``delta``, ``N``, ``l``, ``n_trials``, "
-             "``n_particles``, ``seed``; for the groups ``allsend``, ``random``, ``trigger_csi``, "
-             "``trigger_naive``, ``cfomd``, ``cfwmd_csi``, ``cfwmd_naive`` (per outage), "
-             "``energy_allsend``, ``energy_random``, ``energy_trigger`` (per "
-             "``energy_outage_full``): " + _STATS + " (``G_step``, ``G_rate_step``, "
-             "``G_rate_span``, ``cfwmd_naive_minus_csi``, ...); ``G_calibration(_se)``; "
-             "``energy_trigger_rho_design``, ``energy_trigger_rho``, ``energy_*_outage``.")
+@compute_doc(f"""``outage``, ``gain_threshold``, ``p``, ``delta``, ``N``, ``l``, ``n_trials``,
+              ``n_particles``, ``seed``; for the groups ``allsend``, ``random``, ``trigger_csi``,
+              ``trigger_naive``, ``cfomd``, ``cfwmd_csi``, ``cfwmd_naive`` (per outage),
+              ``energy_allsend``, ``energy_random``, ``energy_trigger`` (per
+              ``energy_outage_full``): {_STATS} (``G_step``, ``G_rate_step``, ``G_rate_span``,
+              ``cfwmd_naive_minus_csi``, ...); ``G_calibration(_se)``;
+              ``energy_trigger_rho_design``, ``energy_trigger_rho``, ``energy_*_outage``.""")
 def compute_fading(profile: str, seed: int, **over) -> dict:
     """Data of ``synthesis-fading``: the schemes through Rayleigh block-fading links."""
     sc = scenario()

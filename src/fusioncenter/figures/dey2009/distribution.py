@@ -40,14 +40,14 @@ SETTABLE_DIST = (
 )
 
 
-@compute_doc("Settings ``k``, ``levels`` (the quantile levels of :data:`DIST`), ``n_paths``, "
-             "``n_alt_paths``, ``seed``, ``p0``, ``p0_alt``, ``laws``, ``bins`` (61,) and "
-             "``lower_envelope`` (101,) the perfect-channel Riccati sequence; for each law ``L`` "
-             'in ("rayleigh", "nakagami"): ``L_quantiles`` (5, 101), ``L_mean``, ``L_stderr``, '
-             "``L_s`` (101,), ``L_density`` (60,) a histogram of p_100, and the scalars "
-             "``L_min_rel_gap``, ``L_ks_time``, ``L_ks_p0`` (KS p-values), ``L_above_mean``, "
-             "``L_max``, ``L_cdf_lo``, ``L_sf_hi``; the pooled 5 % and 95 % quantiles ``x_lo``, "
-             "``x_hi``, and the survival functions ``L_sf`` (40,) on the grid ``sf_x``.",
+@compute_doc("""Settings ``k``, ``levels`` (the quantile levels of :data:`DIST`), ``n_paths``,
+             ``n_alt_paths``, ``seed``, ``p0``, ``p0_alt``, ``laws``, ``bins`` (61,) and
+             ``lower_envelope`` (101,) the perfect-channel Riccati sequence; for each law ``L``
+             in ("rayleigh", "nakagami"): ``L_quantiles`` (5, 101), ``L_mean``, ``L_stderr``,
+             ``L_s`` (101,), ``L_density`` (60,) a histogram of p_100, and the scalars
+             ``L_min_rel_gap``, ``L_ks_time``, ``L_ks_p0`` (KS p-values), ``L_above_mean``,
+             ``L_max``, ``L_cdf_lo``, ``L_sf_hi``; the pooled 5 % and 95 % quantiles ``x_lo``,
+             ``x_hi``, and the survival functions ``L_sf`` (40,) on the grid ``sf_x``.""",
              profile="Sets the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).")
 def compute_distribution(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws."""

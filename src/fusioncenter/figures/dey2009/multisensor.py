@@ -53,13 +53,13 @@ def _compute_multi(access: str, profile: str, seed: int, **over) -> dict:
     return data
 
 
-@compute_doc('``access`` (``"multi-access"``); ``k`` (101,); ``lams`` (3, 2) the settings of '
-             ":data:`LAMS`; ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows): "
-             "``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101) "
-             "the worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their "
-             "fixed points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed "
-             "``grid_`` (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of "
-             ":data:`LAM_GRID`.",
+@compute_doc("""``access`` (``"multi-access"``); ``k`` (101,); ``lams`` (3, 2) the settings of
+             :data:`LAMS`; ``p0``, ``n_paths``, ``n_grid_paths``, ``seed``; per setting (rows):
+             ``mean``, ``stderr`` (3, 101) the Monte Carlo ``E[p_k]``, ``s`` and ``t`` (3, 101)
+             the worst-sensor and AM-HM bound sequences, ``s_limit`` and ``t_limit`` (3,) their
+             fixed points, ``window_diff`` and ``window_diff_stderr`` (3,); the same prefixed
+             ``grid_`` (no window statistic) for the 16 pairs ``grid_lams`` (16, 2) of
+             :data:`LAM_GRID`.""",
              profile="Sets the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).")
 def compute_fig3(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-fig3``: two sensors, multi-access channel, E[p_k] against s_k, t_k."""
@@ -114,8 +114,8 @@ def _tighter(s, t) -> tuple[bool, bool]:
     return bool(np.any(s < t * (1 - 1e-3))), bool(np.any(t < s * (1 - 1e-3)))
 
 
-@checks_doc("Dominance and convergence of ``s_k`` and ``t_k``, stationarity, and that each bound "
-            "is the tighter one in some setting (main settings and grid).")
+@checks_doc("""Dominance and convergence of ``s_k`` and ``t_k``, stationarity, and that each bound
+            is the tighter one in some setting (main settings and grid).""")
 def checks_multi(data: dict) -> list[Claim]:
     """The claims of Figs. 3 and 4: both bounds dominate E[p_k], converge, and either can win."""
     s_wins, t_wins = _tighter(data["s_limit"], data["t_limit"])

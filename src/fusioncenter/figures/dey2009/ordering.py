@@ -27,14 +27,14 @@ from fusioncenter.figures.dey2009.common import (
 from fusioncenter.figures.registry import Claim
 
 
-@compute_doc("Settings ``k``, ``lam1``, ``lam2`` (the swept lambda_2 of :data:`ORDERING`), "
-             "``main_lam2``, ``n_paths``, ``n_grid_paths``, ``seed``, ``p0``, ``worst_sensor``; "
-             "at the main setting (101,) each: ``ma_mean``, ``ma_stderr``, ``orth_mean``, "
-             "``orth_stderr`` (Monte Carlo E[p_k] of both schemes), ``alone_mean``, "
-             "``alone_stderr`` (sensor 1 alone), ``s_valid`` (the bound with the worst sensor "
-             "last, (22) holds), ``s_sensor1_last`` and ``s_sensor2_last`` (one sensor last), "
-             "``t_ma``, ``t_orth``; and the same prefixed ``sweep_`` with one row per lambda_2 "
-             "(7, 101), without the sensor-alone run.",
+@compute_doc("""Settings ``k``, ``lam1``, ``lam2`` (the swept lambda_2 of :data:`ORDERING`),
+             ``main_lam2``, ``n_paths``, ``n_grid_paths``, ``seed``, ``p0``, ``worst_sensor``; at
+             the main setting (101,) each: ``ma_mean``, ``ma_stderr``, ``orth_mean``,
+             ``orth_stderr`` (Monte Carlo E[p_k] of both schemes), ``alone_mean``,
+             ``alone_stderr`` (sensor 1 alone), ``s_valid`` (the bound with the worst sensor
+             last, (22) holds), ``s_sensor1_last`` and ``s_sensor2_last`` (one sensor last),
+             ``t_ma``, ``t_orth``; and the same prefixed ``sweep_`` with one row per lambda_2 (7,
+             101), without the sensor-alone run.""",
              profile="Sets the paths (:data:`PATHS` at the main setting, :data:`GRID_PATHS` per "
                      "point of the sweep).")
 def compute_ordering(profile: str, seed: int, **over) -> dict:
@@ -122,8 +122,8 @@ def plot_ordering(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc("The violation of the wrongly ordered bound, the validity of the ordered one and of "
-            "the orthogonal bounds, and the comparisons with sensor 1 alone.")
+@checks_doc("""The violation of the wrongly ordered bound, the validity of the ordered one and of
+            the orthogonal bounds, and the comparisons with sensor 1 alone.""")
 def checks_ordering(data: dict) -> list[Claim]:
     """What ordering (22) protects: the bound with the best sensor last fails on multi-access."""
     zviol = excess_z(data["ma_mean"][1:], data["ma_stderr"][1:], data["s_sensor1_last"][1:])

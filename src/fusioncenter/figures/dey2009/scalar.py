@@ -77,24 +77,24 @@ def _compute_scalar(kind: str, profile: str, seed: int, **over) -> dict:
     return data
 
 
-@compute_doc('``kind`` (``"rayleigh"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0`` '
-             "the settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``, "
-             "``seed``; for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo "
-             "``E[p_k]`` and its standard error, ``s``, ``q`` (3, 101) the tight and loose bound "
-             "sequences and ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and "
-             "``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same "
-             "arrays prefixed ``grid_`` (no window statistic) for the settings ``grid_sigma_v``, "
-             "``grid_p0`` of :data:`SCALAR_GRID`.",
+@compute_doc("""``kind`` (``"rayleigh"``); ``k`` (101,) the time steps; ``sigma_v`` (3,) and ``p0``
+             the settings of :data:`SIGMA_V` and :data:`P0`; ``n_paths``, ``n_grid_paths``,
+             ``seed``; for each sigma_v (rows): ``mean``, ``stderr`` (3, 101) the Monte Carlo
+             ``E[p_k]`` and its standard error, ``s``, ``q`` (3, 101) the tight and loose bound
+             sequences and ``s_limit``, ``q_limit`` (3,) their fixed points, ``window_diff`` and
+             ``window_diff_stderr`` (3,) the convergence statistic of :data:`WINDOWS`; the same
+             arrays prefixed ``grid_`` (no window statistic) for the settings ``grid_sigma_v``,
+             ``grid_p0`` of :data:`SCALAR_GRID`.""",
              profile="Sets the number of paths (:data:`PATHS`, :data:`GRID_PATHS`).")
 def compute_fig1(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-fig1``: one sensor, Rayleigh fading, E[p_k] against (17)-(18)."""
     return _compute_scalar("rayleigh", profile, seed, **over)
 
 
-@compute_doc('The keys of :func:`compute_fig1` (``kind`` ``"nakagami"``), and also '
-             "``rayleigh_mean``, ``rayleigh_stderr``, ``rayleigh_s``, ... (Fig. 1's runs, for the "
-             "comparison), ``grid_rayleigh_s`` and ``q_as_printed`` (3, 101), the loose bound "
-             "with the paper's printed (20).")
+@compute_doc("""The keys of :func:`compute_fig1` (``kind`` ``"nakagami"``), and also
+             ``rayleigh_mean``, ``rayleigh_stderr``, ``rayleigh_s``, ... (Fig. 1's runs, for the
+             comparison), ``grid_rayleigh_s`` and ``q_as_printed`` (3, 101), the loose bound with
+             the paper's printed (20).""")
 def compute_fig2(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-fig2``: one sensor, Nakagami(1/2) fading, E[p_k] against (19)-(20)."""
     return _compute_scalar("nakagami", profile, seed, **over)

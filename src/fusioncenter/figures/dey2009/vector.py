@@ -57,14 +57,14 @@ def _theorem33_by_quadrature(Z, A, c, Sw, sv2, sn2, lam) -> np.ndarray:
     return out
 
 
-@compute_doc("``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the "
-             "Monte Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the "
-             "bounding sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``, "
-             "``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and "
-             "v'Zbar_k v; ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which "
-             "``Z_next_quadrature`` (5, 2, 2) evaluates Theorem 3.3's recursion (14) by "
-             "quadrature; ``window_diff`` and ``window_diff_stderr`` (float) for the trace; with "
-             "``lam`` overridden, ``lam``.",
+@compute_doc("""``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the
+             Monte Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the
+             bounding sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``,
+             ``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and
+             v'Zbar_k v; ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which
+             ``Z_next_quadrature`` (5, 2, 2) evaluates Theorem 3.3's recursion (14) by
+             quadrature; ``window_diff`` and ``window_diff_stderr`` (float) for the trace; with
+             ``lam`` overridden, ``lam``.""",
              profile="Sets the number of paths (:data:`PATHS`).")
 def compute_vector(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-vector``: E[P_k] of the 2-state example against Zbar_k (Section 3.2)."""

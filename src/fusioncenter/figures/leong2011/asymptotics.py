@@ -24,10 +24,10 @@ from fusioncenter.figures.leong2011.common import (
 from fusioncenter.figures.registry import Claim
 
 
-@compute_doc("``M`` (M_max,) the numbers of sensors, ``S`` and ``P_inf`` the SNR and the "
-             "steady state (8) at each, ``P_iterated`` the fixed point of (4) by iteration, "
-             "``sigma_w2``, the limit and constant ``limit``, ``K`` of (13) and ``asymptotic`` "
-             "(M_max,) ``limit + K/M``.", profile="Unused: the figure is deterministic.",
+@compute_doc("""``M`` (M_max,) the numbers of sensors, ``S`` and ``P_inf`` the SNR and the steady
+             state (8) at each, ``P_iterated`` the fixed point of (4) by iteration, ``sigma_w2``,
+             the limit and constant ``limit``, ``K`` of (13) and ``asymptotic`` (M_max,) ``limit
+             + K/M``.""", profile="Unused: the figure is deterministic.",
              seed="Unused.")
 def compute_fig1(profile: str, seed: int, **over) -> dict:
     """Data of ``leong2011-fig1`` (deterministic: profile and seed do not matter); ``over``
@@ -109,10 +109,10 @@ def _fig2_sensors(seed: int, n: int):
     return h, c, sv
 
 
-@compute_doc("``M`` the numbers of sensors, ``P_inf`` the steady state with the first ``M`` "
-             "sensors, ``lower``, ``upper`` the bounds (37) and ``exact_lower``, "
-             "``exact_upper`` the exact bounds, ``sigma_w2``, the drawn ``h``, ``c``, "
-             "``sigma_v2`` (M_max,) and ``seed``.", profile="Unused.",
+@compute_doc("""``M`` the numbers of sensors, ``P_inf`` the steady state with the first ``M``
+             sensors, ``lower``, ``upper`` the bounds (37) and ``exact_lower``, ``exact_upper``
+             the exact bounds, ``sigma_w2``, the drawn ``h``, ``c``, ``sigma_v2`` (M_max,) and
+             ``seed``.""", profile="Unused.",
              seed="Fixes the draw of the sensor parameters.")
 def compute_fig2(profile: str, seed: int, **over) -> dict:
     """Data of ``leong2011-fig2``: one seeded draw of the sensors; ``over`` sets ``a``,

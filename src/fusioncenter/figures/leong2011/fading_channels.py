@@ -136,13 +136,13 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
     return np.array(Ms), np.array(z), np.array(ratio), n
 
 
-@compute_doc("``M``, ``n_realizations``, ``steps``, ``seed``, ``access``, ``panel``; per M: "
-             "``csi``, ``nocsi`` (with ``*_stderr``) the mean power (a) or error variance (b) "
-             "with and without CSI, ``log_ratio(_stderr)`` the paired mean log(no-CSI / CSI), "
-             "``csi_wins``, ``loss_ratio``, ``max_residual_csi``, ``max_residual_nocsi`` (the "
-             "constraints), ``acceptance``; ``lmmse_M``, ``lmmse_z``, ``lmmse_mse_ratio``, "
-             "``lmmse_trials``, ``lmmse_steps`` (the check of (32)-(33)); orthogonal access "
-             "also ``multi_loss_ratio``, ``loss_diff(_stderr)``.", **PANEL_DOC,
+@compute_doc("""``M``, ``n_realizations``, ``steps``, ``seed``, ``access``, ``panel``; per M:
+             ``csi``, ``nocsi`` (with ``*_stderr``) the mean power (a) or error variance (b) with
+             and without CSI, ``log_ratio(_stderr)`` the paired mean log(no-CSI / CSI),
+             ``csi_wins``, ``loss_ratio``, ``max_residual_csi``, ``max_residual_nocsi`` (the
+             constraints), ``acceptance``; ``lmmse_M``, ``lmmse_z``, ``lmmse_mse_ratio``,
+             ``lmmse_trials``, ``lmmse_steps`` (the check of (32)-(33)); orthogonal access also
+             ``multi_loss_ratio``, ``loss_diff(_stderr)``.""", **PANEL_DOC,
              over="Overrides of ``realizations`` and ``steps`` (:data:`SETTABLE_FADING`).")
 def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     """Data of ``leong2011-fig5a`` ... ``fig6b``: full CSI against no CSI on Rician fading,

@@ -127,12 +127,12 @@ def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
 
 
 
-@compute_doc("``M``, ``n_realizations``, ``seed``, ``access``, ``panel``; per M: ``optimal``, "
-             "``equal`` (with ``*_stderr``) the mean power (a) or steady-state error (b) of "
-             "both allocations, ``ratio_mean(_stderr)`` of equal / optimal, ``min_gap``, "
-             "``max_residual_optimal``, ``max_residual_equal`` (the constraints), "
-             "``acceptance``; ``solver_rel_gap`` (closed form against SLSQP); orthogonal access "
-             "also ``multi_ratio_mean``, ``benefit_diff(_stderr)``.", **PANEL_DOC,
+@compute_doc("""``M``, ``n_realizations``, ``seed``, ``access``, ``panel``; per M: ``optimal``,
+             ``equal`` (with ``*_stderr``) the mean power (a) or steady-state error (b) of both
+             allocations, ``ratio_mean(_stderr)`` of equal / optimal, ``min_gap``,
+             ``max_residual_optimal``, ``max_residual_equal`` (the constraints), ``acceptance``;
+             ``solver_rel_gap`` (closed form against SLSQP); orthogonal access also
+             ``multi_ratio_mean``, ``benefit_diff(_stderr)``.""", **PANEL_DOC,
              over="Overrides of ``realizations`` (:data:`SETTABLE_STATIC`).")
 def compute_static(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     """Data of ``leong2011-fig3a`` ... ``fig4b``: optimal against equal power allocation on
