@@ -98,9 +98,7 @@ PENDING: set[str] = {
     "fusioncenter.particle", "fusioncenter.synthesis", "fusioncenter.figures.registry",
     "fusioncenter.figures.mo2015", "fusioncenter.figures.synthesis",
     "fusioncenter.figures.leong2011.asymptotics", "fusioncenter.figures.leong2011.fading_channels",
-    "fusioncenter.figures.leong2011.static", "fusioncenter.figures.zheng2014.choices",
-    "fusioncenter.figures.zheng2014.linear", "fusioncenter.figures.zheng2014_vector",
-    "fusioncenter.figures.zheng2014_nonlinear",
+    "fusioncenter.figures.leong2011.static",
 }
 
 
