@@ -96,9 +96,6 @@ def _arguments(obj) -> list[str]:
 PENDING: set[str] = {
     "fusioncenter.event.kf", "fusioncenter.fading.channels", "fusioncenter.kalman",
     "fusioncenter.particle", "fusioncenter.synthesis", "fusioncenter.figures.registry",
-    "fusioncenter.figures.zheng2014.choices",
-    "fusioncenter.figures.zheng2014.linear", "fusioncenter.figures.zheng2014_vector",
-    "fusioncenter.figures.zheng2014_nonlinear",
 }
 
 

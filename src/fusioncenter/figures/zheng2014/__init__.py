@@ -10,12 +10,13 @@
   Proposition 3 as printed (it equals CFoMD: erratum), corrected, and the exact filter.
 * ``zheng2014-table1-choices`` (the book's own): Table I under the choices the paper leaves open.
 
-The package is split in three: :mod:`~fusioncenter.figures.zheng2014.common` (what these
+The package is split in four: :mod:`~fusioncenter.figures.zheng2014.common` (what these
 entries share with those of :mod:`fusioncenter.figures.zheng2014_vector` and
 :mod:`fusioncenter.figures.zheng2014_nonlinear`: run sizes, curves, paired differences, plots,
-claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-3 and Table I)
-and :mod:`~fusioncenter.figures.zheng2014.choices` (the book's own sensitivity table). The
-names below are re-exported here.
+claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-3 and Table I),
+:mod:`~fusioncenter.figures.zheng2014.choices` (the book's own sensitivity table) and
+:mod:`~fusioncenter.figures.zheng2014.contrasts` (the paired contrasts of the nonlinear
+entries). The names of the first three are re-exported here.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
 :attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through

@@ -12,9 +12,11 @@ import numpy as np
 
 from fusioncenter import censoring as cs
 from fusioncenter import context, plotting
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.zheng2014.common import (
     LABELS,
+    RAISES,
     Z_ORDER,
     add_entry,
     by_l_runs,
@@ -45,7 +47,12 @@ def _choices_runs(seed: int, n: int, P: int) -> tuple:
                            seed=seed, executor=ex) for kw in CHOICES.values())
 
 
+@compute_doc("See :data:`fusioncenter.figures.zheng2014.linear.DATA_KEYS` "
+             "(``zheng2014-table1-choices``).", raises=RAISES)
 def compute_choices(profile: str, seed: int, **over) -> dict:
+    """Table I re-run under each variant of :data:`CHOICES` (``N = 4``, ``l`` in ``L_FIG2``):
+    one row per variant of the transmissions per step of CFwMD and CFwMD2, how much closer to
+    ``l`` CFwMD2 sends, their time-averaged position RMSE and its paired z-score."""
     runs = _choices_runs(seed, *run_size(profile, TRIALS_CHOICES, PARTICLES_CHOICES, over))
     l = np.array(L_FIG2)
     keys = ("cfwmd", "cfwmd2")
@@ -67,7 +74,10 @@ def compute_choices(profile: str, seed: int, **over) -> dict:
     return data
 
 
+@plot_doc()
 def plot_choices(data: dict):
+    """Transmissions per step minus ``l`` against ``l``, one curve per variant (95 % bars):
+    CFwMD on the left, CFwMD2 on the right."""
     fig, (ax1, ax2) = plotting.subplots(1, 2, sharey=True, stack=True)
     l = data["l"]
     for v, name in enumerate(data["variants"]):
@@ -85,7 +95,10 @@ def plot_choices(data: dict):
     return plotting.finish(fig)
 
 
+@checks_doc()
 def checks_choices(data: dict) -> list[Claim]:
+    """What must hold under every variant: CFwMD2 sends closer to ``l`` for ``l >= 2``, CFwMD
+    fewer than ``l`` for ``l >= 1.5``, and CFwMD2 has the lower RMSE for ``1 < l < 3``."""
     l, cz = data["l"], data["closer_z"]
     hi = l >= 1.5
     a, ase = data["cfwmd"], data["cfwmd_stderr"]

@@ -28,6 +28,7 @@ import numpy as np
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo, plotting
 from fusioncenter.context import Parameter
+from fusioncenter.figures.common import checks_doc, document
 from fusioncenter.figures.registry import Claim, Entry, register
 from fusioncenter.profile import by_profile
 
@@ -43,6 +44,12 @@ Z_ORDER = 4.0
 #: error of the difference taken as sqrt(2) times ours (the paper's own Monte Carlo error, from
 #: the same number of trials, is assumed equal to ours; it is not stated).
 Z_TOL = 4.0
+#: The ``Raises`` section of the entries' compute functions (``compute_doc(..., raises=RAISES)``):
+#: they read ``over`` with ``dict.get``; its keys and values are checked by
+#: :meth:`fusioncenter.figures.registry.Entry.run_compute`.
+RAISES = (("ValueError", "For a ``profile`` other than ``\"fast\"`` and ``\"paper\"`` when a "
+           "default size is read from it. Called directly, an unknown key of ``over`` is "
+           "ignored."),)
 
 
 def settable(trials: dict, particles: dict, *, N: int | None = None,
@@ -449,21 +456,13 @@ def transmissions_data(a, b, ls, paper: dict, N: int) -> dict:
 
 
 # ------------------------------------------------------------------------- claims
+@checks_doc("The ordering all-send < CFwMD < CFoMD < random (position and velocity, "
+            "paired), the transmission rates of random selection and of the censoring schemes, "
+            "no collapse.", data="The data of :func:`schemes_data`.")
 def checks_schemes(data: dict) -> list[Claim]:
     """The statements on Fig. 1, which the paper makes of Fig. 4 too (vector observations).
 
     The entries of both figures use it as their ``checks``.
-
-    Parameters
-    ----------
-    data : dict
-        The data of :func:`schemes_data`.
-
-    Returns
-    -------
-    list of Claim
-        The ordering all-send < CFwMD < CFoMD < random (position and velocity, paired), the
-        transmission rates of random selection and of the censoring schemes, no collapse.
     """
     pairs = [tuple(p) for p in data["pairs"]]
     tr, tre = data["transmissions"], data["transmissions_stderr"]
@@ -490,18 +489,11 @@ def checks_schemes(data: dict) -> list[Claim]:
     ]
 
 
+@document(returns=("fusioncenter.figures.registry.Claim", "Its detail lists the time-averaged "
+                   "position RMSE of both at every ``l``."), raises=(),
+          data="The data of :func:`by_l_data`.")
 def claim_rmse_decreases(data: dict) -> Claim:
-    """The claim that the RMSE of CFwMD and of CFwMD2 decreases as ``l`` grows (Figs. 2, 5).
-
-    Parameters
-    ----------
-    data : dict
-        The data of :func:`by_l_data`.
-
-    Returns
-    -------
-    Claim
-    """
+    """The claim that the RMSE of CFwMD and of CFwMD2 decreases as ``l`` grows (Figs. 2, 5)."""
     return Claim("the RMSE of both schemes decreases as l grows",
                  bool(np.all(np.diff(data["tavg_position"], axis=1) < 0)),
                  "CFwMD " + ", ".join(f"{v:.3f}" for v in data["tavg_position"][0])

@@ -32,9 +32,11 @@ import numpy as np
 from fusioncenter import censoring as cs
 from fusioncenter import context, plotting
 from fusioncenter.context import Parameter
+from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.zheng2014.common import (
     LABELS,
+    RAISES,
     SCHEMES,
     Z_ORDER,
     Z_TOL,
@@ -143,13 +145,20 @@ def _fig1_runs(seed: int, n: int, P: int, N: int, l: float) -> tuple:
                  for s in SCHEMES)
 
 
+@compute_doc("See :data:`DATA_KEYS` (``zheng2014-fig1``).", raises=RAISES)
 def compute_fig1(profile: str, seed: int, **over) -> dict:
+    """Fig. 1: the four schemes (:data:`~fusioncenter.figures.zheng2014.common.SCHEMES`) with
+    the predicted state fed back, ``N`` sensors (default 2) and target ``l`` (default 1), on
+    shared trials (:func:`~fusioncenter.figures.zheng2014.common.schemes_data`)."""
     n, P = run_size(profile, TRIALS, PARTICLES, over)
     N, l = over.get("N", FIG1["N"]), over.get("l", FIG1["l"])
     return schemes_data(_fig1_runs(seed, n, P, N, l), N, l)
 
 
+@plot_doc()
 def plot_fig1(data: dict):
+    """Fig. 1: position (a) and velocity (b) RMSE against time of the four schemes, with 95 %
+    bands, on log axes."""
     fig = rmse_panels(data, list(data["schemes"]), LABELS)
     return plotting.finish(fig, title=f"feedback of the predicted state, N = {data['N']}, "
                                       f"l = {data['l']:g} ({data['n_trials']} trials, "
@@ -188,7 +197,11 @@ def _fig2_args(profile: str, seed: int, over: dict) -> tuple:
     return seed, n, P, over.get("N", FIG2["N"])
 
 
+@compute_doc("See :data:`DATA_KEYS` (``zheng2014-fig2``).", raises=RAISES)
 def compute_fig2(profile: str, seed: int, **over) -> dict:
+    """Fig. 2: CFwMD and CFwMD2 at every ``l`` of ``L_FIG2`` with ``N`` sensors (default
+    4), and the relative gain ``(CFwMD - CFwMD2) / CFwMD`` of the time-averaged position RMSE
+    (standard error by the delta method). The runs are Table I's (cached)."""
     args = _fig2_args(profile, seed, over)
     a, b = _fig2_runs(*args)
     gain, gse = [], []
@@ -204,11 +217,18 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
                      rel_gain_stderr=np.array(gse))
 
 
+@plot_doc()
 def plot_fig2(data: dict):
+    """Fig. 2: the position RMSE against time of CFwMD and of CFwMD2, one curve per ``l`` (a
+    panel per scheme), and their time averages against ``l``
+    (:func:`~fusioncenter.figures.zheng2014.common.by_l_panels`)."""
     return plotting.finish(by_l_panels(data))
 
 
+@checks_doc()
 def checks_fig2(data: dict) -> list[Claim]:
+    """Fig. 2: CFwMD beats CFwMD2 at ``l = 1`` and loses for ``1 < l < 3`` (paired), the
+    relative gain is smaller at ``l = 3`` than at ``l = 2``, and both RMSEs decrease in ``l``."""
     l, d, s = data["l"], data["diff"], data["diff_stderr"]
     z = d / s
     mid = (l > 1) & (l < 3)
@@ -231,7 +251,11 @@ def checks_fig2(data: dict) -> list[Claim]:
     ]
 
 
+@compute_doc("See :data:`DATA_KEYS` (``zheng2014-table1``).", raises=RAISES)
 def compute_table1(profile: str, seed: int, **over) -> dict:
+    """Table I: the transmissions per step of Fig. 2's runs next to :data:`PAPER_TABLE1`, with
+    how often no sensor sends in a step and in two consecutive steps (the paper's explanation
+    of CFwMD2's loss at ``l = 1``)."""
     args = _fig2_args(profile, seed, over)
     a, b = _fig2_runs(*args)
     N = args[-1]
@@ -255,12 +279,19 @@ def compute_table1(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_table1(data: dict):
+    """Table I: the transmissions per step minus ``l`` of CFwMD and CFwMD2 against ``l``, ours
+    (95 % bars) and the printed ones."""
     return transmissions_plot(data, LABELS, "I", f"N = {data['N']}: average transmissions per "
                                f"step ({data['n_trials']} trials)")
 
 
+@checks_doc()
 def checks_table1(data: dict) -> list[Claim]:
+    """Table I: CFwMD2 sends closer to ``l`` than CFwMD for ``l > 1``, CFwMD fewer than ``l``;
+    agreement with the printed values (paper-specific); at ``l = 1`` more silent pairs of steps
+    under CFwMD2 and both above ``l``; silent steps more frequent than ``(1 - l/N)^N``."""
     l, cz = data["l"], data["closer_z"]
     hi, mid = l >= 1.5, l > 1
     a, b = data["cfwmd"], data["cfwmd2"]
@@ -358,7 +389,13 @@ def _fig3_runs(seed: int, n: int, P: int, nh: int) -> tuple:
     return tuple(runs)
 
 
+@compute_doc("See :data:`DATA_KEYS` (``zheng2014-fig3``).", raises=(*RAISES, (
+    "ValueError", "If ``trials_heavy`` exceeds ``trials``, or is smaller and not a multiple "
+    "of the block size (256).")))
 def compute_fig3(profile: str, seed: int, **over) -> dict:
+    """Fig. 3: no feedback, ``N = 2``, ``l = 1``: the curves of ``FIG3_CURVES``, the
+    corrected Proposition 3 and the exact filter on the first ``trials_heavy`` trials, each
+    paired difference on the trials both of its runs have."""
     n, P = run_size(profile, TRIALS, PARTICLES, over)
     nh = over.get("trials_heavy") or by_profile(profile, **TRIALS_NOFB_HEAVY)
     if nh > n:
@@ -387,14 +424,21 @@ def compute_fig3(profile: str, seed: int, **over) -> dict:
     }
 
 
+@plot_doc()
 def plot_fig3(data: dict):
+    """Fig. 3: position (a) and velocity (b) RMSE against time of the six curves, with 95 %
+    bands, on log axes."""
     fig = rmse_panels(data, list(data["curves"]), LABELS)
     n = data["n_trials"]
     return plotting.finish(fig, title=f"no feedback, N = {data['N']}, l = {data['l']:g} "
                                       f"({n[0]} trials; corrected and exact: {n[-1]})")
 
 
+@checks_doc()
 def checks_fig3(data: dict) -> list[Claim]:
+    """Fig. 3: Proposition 3 as printed gives CFoMD's estimates (erratum), all-send < CFoMD <
+    random, the exact filter beats CFoMD and the corrected Proposition 3 (paired), and CFoMD
+    sends ``l`` per step."""
     names = [tuple(p) for p in data["pairs"]]
     d, s = data["pair_diff"], data["pair_stderr"]
     cv = list(data["curves"])
