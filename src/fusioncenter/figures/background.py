@@ -8,14 +8,7 @@ import numpy as np
 
 from fusioncenter import montecarlo, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    plot_doc,
-    register_figure,
-    settings,
-    trials_parameter,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.kalman import constant_velocity
 
@@ -41,7 +34,7 @@ SETTABLE_RICCATI = (
 )
 #: The overridable parameters of ``background-kf-montecarlo``.
 SETTABLE_MC = (
-    trials_parameter(MC_TRIALS, "Monte Carlo trials (simulated tracks)"),
+    common.trials_parameter(MC_TRIALS, "Monte Carlo trials (simulated tracks)"),
     Parameter("q", "float", "process-noise intensity of the constant-velocity model",
               VECTOR["q"], minimum=1e-9, model=True),
     Parameter("r", "float", "position measurement-noise variance (m^2)", VECTOR["r"],
@@ -103,7 +96,8 @@ def filterpy_covariances(model, steps: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 # ------------------------------------------------------------------------ riccati convergence
-@compute_doc("""``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar prediction
+@common.compute_doc("""``k`` (steps + 1,) the time steps; ``p_scalar`` (steps + 1,) the scalar
+             prediction
              variances of :data:`SCALAR` from ``p0``; ``p_scalar_inf`` (float) their closed-form
              limit and ``p_scalar_dare`` (float) scipy's DARE solution; ``P_vector`` (steps + 1,
              2, 2) the prediction covariances of :data:`VECTOR`, ``P_vector_filterpy`` the same
@@ -116,7 +110,7 @@ def compute_riccati(profile: str, seed: int, **over) -> dict:
 
     Deterministic: the profile and the seed do not matter.
     """
-    s = {**SCALAR, **settings("background-riccati", SETTABLE_RICCATI, profile, over)}
+    s = {**SCALAR, **common.settings("background-riccati", SETTABLE_RICCATI, profile, over)}
     k = np.arange(s["steps"] + 1)
     p = riccati.scalar_sequence(s["p0"], s["a"], s["q"], s["c"], s["r"], s["steps"])
     p_inf = riccati.scalar_steady_state(s["a"], s["q"], s["c"], s["r"])
@@ -140,7 +134,7 @@ def compute_riccati(profile: str, seed: int, **over) -> dict:
     return out
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_riccati(data: dict):
     """The two panels of ``background-riccati``: scalar recursion, vector diagonal (log scale)."""
     fig, (ax1, ax2) = plotting.subplots(1, 2, stack=True)
@@ -164,7 +158,7 @@ def plot_riccati(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc("Five claims, each with the measured gap in its detail.")
+@common.checks_doc("Five claims, each with the measured gap in its detail.")
 def checks_riccati(data: dict) -> list[Claim]:
     """Fixed point, DARE agreement, monotone convergence and agreement with filterpy."""
     p, p_inf = data["p_scalar"], data["p_scalar_inf"]
@@ -191,7 +185,7 @@ def checks_riccati(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="background-riccati",
     paper="book",
     caption="The Riccati recursion converging to its steady state: a scalar unstable system "
@@ -215,7 +209,8 @@ def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
     return (xhat - x) ** 2
 
 
-@compute_doc("""``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared filtering
+@common.compute_doc("""``k`` (T,) time steps; ``mse`` and ``stderr`` (T, 2) the mean squared
+             filtering
              error of position and velocity and its standard error; ``n_trials`` and ``seed``;
              ``riccati_diag`` (T, 2) the diagonal of ``P_{k|k}``; ``normalized_mse`` and
              ``normalized_mse_stderr`` (float) the squared error divided by the Riccati variance,
@@ -225,7 +220,7 @@ def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
 def compute_mc(profile: str, seed: int, **over) -> dict:
     """Data of ``background-kf-montecarlo``: simulated Kalman-filter errors against Riccati."""
     steps = VECTOR["steps"]
-    v = settings("background-kf-montecarlo", SETTABLE_MC, profile, over)
+    v = common.settings("background-kf-montecarlo", SETTABLE_MC, profile, over)
     n = v["trials"]
     res = montecarlo.simulate(functools.partial(_kf_squared_errors, steps=steps, q=v["q"],
                                                 r=v["r"]), n, seed)
@@ -247,7 +242,7 @@ def compute_mc(profile: str, seed: int, **over) -> dict:
     }
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_mc(data: dict):
     """Monte Carlo mean squared error with 95 % bands against the Riccati variances."""
     fig, ax = plotting.subplots(stack=True)
@@ -265,7 +260,8 @@ def plot_mc(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc("""Two claims: every z-score below 4.5, and the normalized error within 4 standard
+@common.checks_doc("""Two claims: every z-score below 4.5, and the normalized error within 4
+            standard
             errors of 1.""")
 def checks_mc(data: dict) -> list[Claim]:
     """The simulated errors agree with the Riccati variances, step by step and on average."""
@@ -283,7 +279,7 @@ def checks_mc(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="background-kf-montecarlo",
     paper="book",
     caption="What the Riccati recursion predicts: the Monte Carlo mean squared error of the "

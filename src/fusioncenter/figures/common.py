@@ -47,64 +47,40 @@ ValueError
 """)
 
 
+#: The arguments of the three decorators below.
+_decorators = Glossary("""
+returns : str
+    What the function returns; a triple-quoted string may continue on indented lines
+    (:func:`inspect.cleandoc` removes the indentation).
+**overrides
+    Descriptions of arguments particular to the decorated function (``name=(type, text)``).
+""")
+_DECORATOR = ("Callable", "The decorator (:meth:`fusioncenter._docstrings.Glossary.__call__`).")
+
+
+@_decorators(returns=_DECORATOR, raises=())
 def compute_doc(returns: str, **overrides) -> Callable:
-    """The numpydoc sections of an entry's compute function.
-
-    Parameters
-    ----------
-    returns : str
-        What the returned ``dict`` holds (its keys); a triple-quoted string may continue on
-        indented lines (:func:`inspect.cleandoc` removes the indentation).
-    **overrides
-        Descriptions of arguments particular to this function (``name=(type, text)``).
-
-    Returns
-    -------
-    Callable
-        The decorator (:meth:`fusioncenter._docstrings.Glossary.__call__`).
-    """
+    """The numpydoc sections of an entry's compute function; ``returns`` says what the
+    returned ``dict`` holds (its keys)."""
     return document(returns=("dict", inspect.cleandoc(returns)), **overrides)
 
 
+@_decorators(returns=_DECORATOR, raises=())
 def plot_doc(returns: str = "The figure (:func:`fusioncenter.plotting.finish` applied).",
              **overrides) -> Callable:
-    """The numpydoc sections of an entry's plot function (it raises nothing of its own).
-
-    Parameters
-    ----------
-    returns : str
-        What the figure shows, if the summary does not say it.
-    **overrides
-        Descriptions of arguments particular to this function (``name=(type, text)``).
-
-    Returns
-    -------
-    Callable
-        The decorator.
-    """
+    """The numpydoc sections of an entry's plot function (it raises nothing of its own);
+    ``returns`` says what the figure shows, if the summary does not say it."""
     return document(returns=("matplotlib.figure.Figure", inspect.cleandoc(returns)), raises=(),
                     **overrides)
 
 
+@_decorators(returns=_DECORATOR, raises=())
 def checks_doc(returns: str = "One claim per statement of the paper checked on the data, "
                "each with its measured value in its detail.", **overrides) -> Callable:
-    """The numpydoc sections of an entry's checks function (it raises nothing of its own).
-
-    Parameters
-    ----------
-    returns : str
-        What the claims are, if the summary does not say it.
-    **overrides
-        Descriptions of arguments particular to this function (``name=(type, text)``).
-
-    Returns
-    -------
-    Callable
-        The decorator.
-    """
+    """The numpydoc sections of an entry's checks function (it raises nothing of its own);
+    ``returns`` says what the claims are, if the summary does not say it."""
     return document(returns=("list of fusioncenter.figures.registry.Claim",
-                             inspect.cleandoc(returns)), raises=(),
-                    **overrides)
+                             inspect.cleandoc(returns)), raises=(), **overrides)
 
 
 def settings(entry_id: str, settable, profile: str, over: dict) -> dict:
