@@ -42,6 +42,14 @@ def _indent(text: str) -> list[str]:
     return ["    " + line if line else "" for line in text.split("\n")] if text else []
 
 
+def _raises(raised) -> list[str]:
+    """The lines of a ``Raises`` section listing ``raised`` (none if it is empty)."""
+    lines = ["", "Raises", "------"] if raised else []
+    for kind, text in raised:
+        lines += [kind, *_indent(text)]
+    return lines
+
+
 def parse(text: str) -> list[tuple[list[str], Entry]]:
     """The entries of a numpydoc section: ``(names, (type, description))``, in order.
 
@@ -104,25 +112,21 @@ class Glossary:
             lines += ["", "Returns", "-------"]
             for kind, text in returned:
                 lines += [kind, *_indent(text)]
-            raised = self.raises if raises is None else raises
-            if raised:
-                lines += ["", "Raises", "------"]
-                for kind, text in raised:
-                    lines += [kind, *_indent(text)]
-            func.__doc__ = "\n".join(lines)
+            func.__doc__ = "\n".join(lines + _raises(self.raises if raises is None else raises))
             return func
 
         return decorate
 
-    def attributes(self, **overrides: Entry | str) -> Callable:
+    def attributes(self, raises: tuple[Entry, ...] = (), **overrides: Entry | str) -> Callable:
         """The class decorator appending an ``Attributes`` section to a class's docstring.
 
         One entry per argument of the class's constructor (the fields of a dataclass or a
-        ``NamedTuple``), in order; ``overrides`` as for the function decorator.
+        ``NamedTuple``), in order; ``overrides`` as for the function decorator. ``raises`` is the
+        class's ``Raises`` section (none by default: only a validating constructor raises).
         """
 
         def decorate(cls: type) -> type:
-            cls.__doc__ = "\n".join(self._section(cls, "Attributes", overrides))
+            cls.__doc__ = "\n".join(self._section(cls, "Attributes", overrides) + _raises(raises))
             return cls
 
         return decorate
