@@ -94,8 +94,6 @@ def _arguments(obj) -> list[str]:
 
 #: Modules whose public names are still being documented (issue 15 item 5); empty when done.
 PENDING: set[str] = {
-    "fusioncenter.event.kf", "fusioncenter.fading.channels", "fusioncenter.kalman",
-    "fusioncenter.particle", "fusioncenter.synthesis", "fusioncenter.figures.registry",
     "fusioncenter.figures.mo2015", "fusioncenter.figures.synthesis",
     "fusioncenter.figures.leong2011.asymptotics", "fusioncenter.figures.leong2011.fading_channels",
     "fusioncenter.figures.leong2011.static", "fusioncenter.figures.zheng2014.choices",
