@@ -92,13 +92,6 @@ def _arguments(obj) -> list[str]:
         return []
 
 
-#: Modules whose public names are still being documented (issue 15 item 5); empty when done.
-PENDING: set[str] = {
-    "fusioncenter.event.kf", "fusioncenter.fading.channels", "fusioncenter.kalman",
-    "fusioncenter.particle", "fusioncenter.synthesis", "fusioncenter.figures.registry",
-}
-
-
 def test_public_functions_and_classes_have_numpydoc_sections():
     """Every public function documents its arguments (``Parameters``) and what it returns
     (``Returns`` or ``Yields``, unless it returns nothing); every public class taking arguments
@@ -106,11 +99,8 @@ def test_public_functions_and_classes_have_numpydoc_sections():
     appended by a :class:`fusioncenter._docstrings.Glossary` count."""
     import inspect
 
-    missing, seen = [], set()
+    missing = []
     for module, name, obj in _public_objects():
-        seen.add(module)
-        if module in PENDING:
-            continue
         doc = inspect.getdoc(obj) or ""
         lacks = []
         if _arguments(obj) and not ("Parameters\n----------" in doc or (
@@ -122,4 +112,3 @@ def test_public_functions_and_classes_have_numpydoc_sections():
         if lacks:
             missing.append(f"{module}.{name} ({', '.join(lacks)})")
     assert not missing, f"{len(missing)} public names lack numpydoc sections: {missing}"
-    assert PENDING <= seen, f"PENDING names modules that do not exist: {PENDING - seen}"

@@ -42,6 +42,14 @@ def _indent(text: str) -> list[str]:
     return ["    " + line if line else "" for line in text.split("\n")] if text else []
 
 
+def _raises(raised) -> list[str]:
+    """The lines of a ``Raises`` section listing ``raised`` (none if it is empty)."""
+    lines = ["", "Raises", "------"] if raised else []
+    for kind, text in raised:
+        lines += [kind, *_indent(text)]
+    return lines
+
+
 def parse(text: str) -> list[tuple[list[str], Entry]]:
     """The entries of a numpydoc section: ``(names, (type, description))``, in order.
 
@@ -100,32 +108,46 @@ class Glossary:
         returned = (returns,) if isinstance(returns[0], str) else returns
 
         def decorate(func: Callable) -> Callable:
-            groups: list[tuple[list[str], Entry]] = []
-            for p in inspect.signature(func).parameters.values():
-                if p.name == "self":
-                    continue
-                shown = f"**{p.name}" if p.kind is p.VAR_KEYWORD else p.name
-                entry = self._entry(p.name, overrides)
-                if groups and groups[-1][1] == entry:
-                    groups[-1][0].append(shown)
-                else:
-                    groups.append(([shown], entry))
-            unknown = set(overrides) - set(inspect.signature(func).parameters)
-            if unknown:
-                raise KeyError(f"{func.__name__} has no argument {sorted(unknown)}")
-            lines = [inspect.cleandoc(func.__doc__ or ""), "", "Parameters", "----------"]
-            for names, (kind, text) in groups:
-                lines.append(", ".join(names) + (f" : {kind}" if kind else ""))
-                lines += _indent(text)
+            lines = self._section(func, "Parameters", overrides)
             lines += ["", "Returns", "-------"]
             for kind, text in returned:
                 lines += [kind, *_indent(text)]
-            raised = self.raises if raises is None else raises
-            if raised:
-                lines += ["", "Raises", "------"]
-                for kind, text in raised:
-                    lines += [kind, *_indent(text)]
-            func.__doc__ = "\n".join(lines)
+            func.__doc__ = "\n".join(lines + _raises(self.raises if raises is None else raises))
             return func
 
         return decorate
+
+    def attributes(self, raises: tuple[Entry, ...] = (), **overrides: Entry | str) -> Callable:
+        """The class decorator appending an ``Attributes`` section to a class's docstring.
+
+        One entry per argument of the class's constructor (the fields of a dataclass or a
+        ``NamedTuple``), in order; ``overrides`` as for the function decorator. ``raises`` is the
+        class's ``Raises`` section (none by default: only a validating constructor raises).
+        """
+
+        def decorate(cls: type) -> type:
+            cls.__doc__ = "\n".join(self._section(cls, "Attributes", overrides) + _raises(raises))
+            return cls
+
+        return decorate
+
+    def _section(self, obj: Callable, title: str, overrides: dict[str, Entry | str]) -> list[str]:
+        """``obj``'s docstring followed by the section ``title`` describing its arguments."""
+        groups: list[tuple[list[str], Entry]] = []
+        for p in inspect.signature(obj).parameters.values():
+            if p.name == "self":
+                continue
+            shown = f"**{p.name}" if p.kind is p.VAR_KEYWORD else p.name
+            entry = self._entry(p.name, overrides)
+            if groups and groups[-1][1] == entry:
+                groups[-1][0].append(shown)
+            else:
+                groups.append(([shown], entry))
+        unknown = set(overrides) - set(inspect.signature(obj).parameters)
+        if unknown:
+            raise KeyError(f"{obj.__name__} has no argument {sorted(unknown)}")
+        lines = [inspect.cleandoc(obj.__doc__ or ""), "", title, "-" * len(title)]
+        for names, (kind, text) in groups:
+            lines.append(", ".join(names) + (f" : {kind}" if kind else ""))
+            lines += _indent(text)
+        return lines

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from fusioncenter._docstrings import Glossary
+
 __all__ = ["posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
            "square", "finite_result", "SYMMETRY_RTOL", "PSD_RTOL"]
 
@@ -38,55 +40,33 @@ SYMMETRY_RTOL = 1e-10
 #: order ``-1e-16 * max |M|``); for ``definite=True`` it must be ``> PSD_RTOL * max |M|``.
 PSD_RTOL = 1e-10
 
+#: The arguments the validators share, by name.
+_doc = Glossary("""
+name : str
+    The argument's name, used in the message.
+value : array_like
+    Numbers (Python or NumPy scalars, sequences, arrays).
+""")
+#: ``value`` of the validators that accept anything and check its type.
+_ANY = ("object", "The value to check.")
 
+
+@_doc(returns=("int", "``value`` as a Python ``int``."), value=_ANY, raises=((
+    "ValueError", "If ``value`` is not an integer ``>= 1`` (``True`` is not an integer here)."),))
 def posint(name: str, value) -> int:
-    """A positive integer (Python or NumPy integer; ``bool`` rejected).
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : object
-        The value to check.
-
-    Returns
-    -------
-    int
-        ``value`` as a Python ``int``.
-
-    Raises
-    ------
-    ValueError
-        If ``value`` is not an integer ``>= 1`` (``True`` is not an integer here).
-    """
+    """A positive integer (Python or NumPy integer; ``bool`` rejected)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
     return int(value)
 
 
+@_doc(returns=("int", "``value`` as a Python ``int``."),
+      value=("object", "The value to check (a seed, a number of steps, an index)."),
+      minimum=("int", "The smallest value accepted."),
+      raises=(("ValueError", "If ``value`` is not an integer (``True``, ``2.0`` and ``\"3\"`` are "
+                             "not) or is below\n``minimum``."),))
 def integer(name: str, value, minimum: int = 0) -> int:
-    """An integer ``>= minimum`` (Python or NumPy integer; ``bool`` rejected).
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : object
-        The value to check (a seed, a number of steps, an index).
-    minimum : int
-        The smallest value accepted.
-
-    Returns
-    -------
-    int
-        ``value`` as a Python ``int``.
-
-    Raises
-    ------
-    ValueError
-        If ``value`` is not an integer (``True``, ``2.0`` and ``"3"`` are not) or is below
-        ``minimum``.
-    """
+    """An integer ``>= minimum`` (Python or NumPy integer; ``bool`` rejected)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
         raise ValueError(f"{name} must be an integer, got {value!r}")
     if value < minimum:
@@ -101,82 +81,33 @@ def _as_float(name: str, value) -> np.ndarray:
         raise ValueError(f"{name} must be a real number or array of them, got {value!r}") from None
 
 
+@_doc(returns=("numpy.ndarray", "``numpy.asarray(value, dtype=float)`` (0-d for a scalar)."),
+      raises=(("ValueError", "If ``value`` is not convertible to floats or has a NaN or infinite "
+                             "entry."),))
 def finite(name: str, value) -> np.ndarray:
-    """A float array with finite entries.
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : array_like
-        Numbers (Python or NumPy scalars, sequences, arrays).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``numpy.asarray(value, dtype=float)`` (0-d for a scalar).
-
-    Raises
-    ------
-    ValueError
-        If ``value`` is not convertible to floats or has a NaN or infinite entry.
-    """
+    """A float array with finite entries."""
     arr = _as_float(name, value)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return arr
 
 
+@_doc(returns=("numpy.ndarray", "The values as floats."),
+      what=("str", "Why the value must be positive, quoted in the message."),
+      raises=(("ValueError", "If an entry is NaN, infinite or ``<= 0``."),))
 def positive(name: str, value, what: str = "a variance") -> np.ndarray:
-    """A finite float array with entries ``> 0``.
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : array_like
-        Numbers.
-    what : str
-        Why the value must be positive, quoted in the message.
-
-    Returns
-    -------
-    numpy.ndarray
-        The values as floats.
-
-    Raises
-    ------
-    ValueError
-        If an entry is NaN, infinite or ``<= 0``.
-    """
+    """A finite float array with entries ``> 0``."""
     arr = finite(name, value)
     if np.any(arr <= 0):
         raise ValueError(f"{name} must be positive ({what}), got {value!r}")
     return arr
 
 
+@_doc(returns=("numpy.ndarray", "The values as floats."),
+      what=("str, optional", "Why the value must be non-negative, quoted in the message."),
+      raises=(("ValueError", "If an entry is NaN, infinite or negative."),))
 def nonneg(name: str, value, what: str | None = None) -> np.ndarray:
-    """A finite float array with entries ``>= 0``.
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : array_like
-        Numbers.
-    what : str, optional
-        Why the value must be non-negative, quoted in the message.
-
-    Returns
-    -------
-    numpy.ndarray
-        The values as floats.
-
-    Raises
-    ------
-    ValueError
-        If an entry is NaN, infinite or negative.
-    """
+    """A finite float array with entries ``>= 0``."""
     arr = finite(name, value)
     if np.any(arr < 0):
         why = f" ({what})" if what else ""
@@ -192,7 +123,7 @@ def one_of(name: str, value, options) -> None:
     name : str
         The argument's name, used in the message.
     value : object
-        The value to check.
+        Checked for membership.
     options : container
         The allowed values.
 
@@ -205,35 +136,18 @@ def one_of(name: str, value, options) -> None:
         raise ValueError(f"{name} must be one of {options}, got {value!r}")
 
 
+@_doc(returns=("numpy.ndarray", "The matrix as floats, unchanged (not symmetrized)."),
+      value=("array_like", "A matrix ``(n, n)``, or with ``batch=True`` a stack ``(..., n, n)`` "
+                           "of them."),
+      definite=("bool", "Require positive definiteness (smallest eigenvalue ``> PSD_RTOL * max "
+                        "|M|``) instead of\nsemi-definiteness (``>= -PSD_RTOL * max |M|``)."),
+      n=("int, optional", "The required size."), batch=("bool", "Allow leading (batch) axes."),
+      raises=(("ValueError", "If it is not finite, not a (stack of) square matrices of the right "
+                             "size, not symmetric\nto ``SYMMETRY_RTOL``, or has an eigenvalue "
+                             "below the tolerance."),))
 def covariance(name: str, value, *, definite: bool = False, n: int | None = None,
                batch: bool = False) -> np.ndarray:
-    """A covariance matrix: finite, square, symmetric and positive semi-definite (or definite).
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    value : array_like
-        A matrix ``(n, n)``, or with ``batch=True`` a stack ``(..., n, n)`` of them.
-    definite : bool
-        Require positive definiteness (smallest eigenvalue ``> PSD_RTOL * max |M|``) instead of
-        semi-definiteness (``>= -PSD_RTOL * max |M|``).
-    n : int, optional
-        The required size.
-    batch : bool
-        Allow leading (batch) axes.
-
-    Returns
-    -------
-    numpy.ndarray
-        The matrix as floats, unchanged (not symmetrized).
-
-    Raises
-    ------
-    ValueError
-        If it is not finite, not a (stack of) square matrices of the right size, not symmetric
-        to ``SYMMETRY_RTOL``, or has an eigenvalue below the tolerance.
-    """
+    """A covariance matrix: finite, square, symmetric and positive semi-definite (or definite)."""
     arr = finite(name, value)
     if arr.ndim < 2 or (arr.ndim > 2 and not batch) or arr.shape[-1] != arr.shape[-2]:
         want = "a square matrix (..., n, n)" if batch else "a square matrix (n, n)"
@@ -257,53 +171,22 @@ def covariance(name: str, value, *, definite: bool = False, n: int | None = None
     return arr
 
 
+@_doc(returns=("numpy.ndarray", "``arr``, unchanged."),
+      arr=("numpy.ndarray", "A 2-D array (the caller has converted and checked it)."),
+      raises=(("ValueError", "If ``arr`` is not square."),))
 def square(name: str, arr: np.ndarray) -> np.ndarray:
-    """A matrix must be square.
-
-    Parameters
-    ----------
-    name : str
-        The argument's name, used in the message.
-    arr : numpy.ndarray
-        A 2-D array (the caller has converted and checked it).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``arr``, unchanged.
-
-    Raises
-    ------
-    ValueError
-        If ``arr`` is not square.
-    """
+    """A matrix must be square."""
     if arr.shape != (arr.shape[0],) * 2:
         raise ValueError(f"{name} must be square, got {arr.shape}")
     return arr
 
 
+@_doc(returns=("numpy.ndarray", "``value`` as an array, unchanged."),
+      name=("str", "What was computed, used in the message."), value=("array_like", "The result."),
+      why=("str", "Which inputs make it overflow, quoted in the message."),
+      raises=(("ValueError", "If an entry is NaN or infinite."),))
 def finite_result(name: str, value, why: str) -> np.ndarray:
-    """A computed result must be finite.
-
-    Parameters
-    ----------
-    name : str
-        What was computed, used in the message.
-    value : array_like
-        The result.
-    why : str
-        Which inputs make it overflow, quoted in the message.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``value`` as an array, unchanged.
-
-    Raises
-    ------
-    ValueError
-        If an entry is NaN or infinite.
-    """
+    """A computed result must be finite."""
     arr = np.asarray(value)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} is not finite: {why}")

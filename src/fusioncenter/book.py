@@ -7,6 +7,7 @@ import html
 import textwrap
 
 from fusioncenter import figures, plotting
+from fusioncenter._docstrings import Glossary
 from fusioncenter.glue import glue
 from fusioncenter.profile import ENV_VAR, current_profile
 
@@ -15,6 +16,18 @@ __all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "
 
 #: Metadata key under which :func:`reproduce` stores what the site's figure directive needs.
 FIGURE_METADATA = "fusioncenter"
+
+#: The arguments the helpers share, by name.
+_doc = Glossary("""
+entry_id : str
+    The registry id the claims belong to (named in the heading).
+claims : list of Claim
+    The evaluated claims (:meth:`fusioncenter.figures.registry.Entry.run_checks`).
+header : sequence of str
+    The column titles.
+rows : iterable of sequence
+    One sequence per row; each cell is converted with :class:`str`.
+""")
 
 
 def _inline_figures() -> None:
@@ -77,22 +90,10 @@ def _display(bundle: dict, metadata: dict) -> None:
     display(bundle, raw=True, metadata=metadata)
 
 
+@_doc(returns=("str", "Lines of at most 88 characters: a count of the claims that hold, then "
+                     "``PASS:`` or\n``FAIL:`` with each claim's name and its bracketed detail."))
 def evidence_text(entry_id: str, claims) -> str:
-    """The claims as wrapped plain text: one verdict line per claim, its detail indented.
-
-    Parameters
-    ----------
-    entry_id : str
-        The registry id the claims belong to (named in the first line).
-    claims : list of Claim
-        The evaluated claims (:meth:`fusioncenter.figures.registry.Entry.run_checks`).
-
-    Returns
-    -------
-    str
-        Lines of at most 88 characters: a count of the claims that hold, then ``PASS:`` or
-        ``FAIL:`` with each claim's name and its bracketed detail.
-    """
+    """The claims as wrapped plain text: one verdict line per claim, its detail indented."""
     held = sum(bool(c.passed) for c in claims)
     lines = [f"Evidence for {entry_id}: {held} of {len(claims)} claims hold"]
     for c in claims:
@@ -105,22 +106,10 @@ def evidence_text(entry_id: str, claims) -> str:
     return "\n".join(lines)
 
 
+@_doc(returns=("str", "An HTML ``<details>`` block whose summary counts the claims that "
+                     "hold; it is open when\na claim failed."))
 def evidence_html(entry_id: str, claims) -> str:
-    """The claims as a collapsible table (claim, value or detail, verdict).
-
-    Parameters
-    ----------
-    entry_id : str
-        The registry id the claims belong to (named in the summary line).
-    claims : list of Claim
-        The evaluated claims.
-
-    Returns
-    -------
-    str
-        An HTML ``<details>`` block whose summary counts the claims that hold; it is open when
-        a claim failed.
-    """
+    """The claims as a collapsible table (claim, value or detail, verdict)."""
     held = sum(bool(c.passed) for c in claims)
     rows = "".join(
         f'<tr class="fc-{"pass" if c.passed else "fail"}"><td>{html.escape(c.name)}</td>'
@@ -311,42 +300,19 @@ def pm(value: float, stderr: float, digits: int = 3) -> str:
     return f"{value:.{digits}f} ± {stderr:.{digits}f}"
 
 
+@_doc(returns=("IPython.display.Markdown", "The table (a header line, a ``|---|`` rule "
+                     "and one line per row); a notebook shows it\nas a rendered table when it "
+                     "is the value of a cell or passed to ``display``."))
 def md_table(header, rows):
-    """A Markdown table, for display in a notebook.
-
-    Parameters
-    ----------
-    header : sequence of str
-        The column titles.
-    rows : iterable of sequence
-        One sequence per row; each cell is converted with :class:`str`.
-
-    Returns
-    -------
-    IPython.display.Markdown
-        The table (a header line, a ``|---|`` rule and one line per row); a notebook shows it
-        as a rendered table when it is the value of a cell or passed to ``display``.
-    """
+    """A Markdown table, for display in a notebook."""
     from IPython.display import Markdown
 
     return Markdown(markdown_table(header, rows))
 
 
+@_doc(returns=("str", "The lines of the table joined by newlines."))
 def markdown_table(header, rows) -> str:
-    """The Markdown source of the table that :func:`md_table` displays.
-
-    Parameters
-    ----------
-    header : sequence of str
-        The column titles.
-    rows : iterable of sequence
-        One sequence per row; each cell is converted with :class:`str`.
-
-    Returns
-    -------
-    str
-        The lines of the table joined by newlines.
-    """
+    """The Markdown source of the table that :func:`md_table` displays."""
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return "\n".join(lines)

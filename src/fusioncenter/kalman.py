@@ -191,12 +191,24 @@ class LinearGaussianModel:
 
 class KalmanStep(NamedTuple):
     """Result of :func:`kalman_step`: the filtered moments at step ``k`` and the predicted ones
-    for step ``k + 1``."""
+    for step ``k + 1``.
 
-    x_post: np.ndarray  #: ``E[x_k | y_0..y_k]``, shaped like the predicted means
-    P_post: np.ndarray  #: ``P_{k|k}``, shaped like the predicted covariance(s)
-    x_pred: np.ndarray  #: ``E[x_{k+1} | y_0..y_k] = A x_post``
-    P_pred: np.ndarray  #: ``P_{k+1|k} = A P_{k|k} A^T + Q``
+    Attributes
+    ----------
+    x_post : numpy.ndarray
+        ``E[x_k | y_0..y_k]``, shaped like the predicted means.
+    P_post : numpy.ndarray
+        ``P_{k|k}``, shaped like the predicted covariance(s).
+    x_pred : numpy.ndarray
+        ``E[x_{k+1} | y_0..y_k] = A x_post``.
+    P_pred : numpy.ndarray
+        ``P_{k+1|k} = A P_{k|k} A^T + Q``.
+    """
+
+    x_post: np.ndarray
+    P_post: np.ndarray
+    x_pred: np.ndarray
+    P_pred: np.ndarray
 
 
 def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,

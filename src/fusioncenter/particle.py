@@ -55,6 +55,7 @@ from typing import Protocol
 import numpy as np
 
 from fusioncenter import _kernels
+from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import square as _square
@@ -76,7 +77,31 @@ __all__ = [
 ]
 
 
+#: The arguments of the weight and resampling functions, by name.
+_doc = Glossary("""
+logw : array_like
+    Log weights ``(..., P)``, not necessarily normalized; ``-inf`` (weight zero) allowed, NaN
+    and ``+inf`` not.
+x : array_like
+    Particles ``(..., P, d)``.
+u : array_like
+    One uniform in ``[0, 1)`` per row, shaped like the leading axes ``(...)`` of ``logw``.
+idx : array_like
+    Ancestor indices ``(..., P)``, integers in ``[0, P)``.
+""", raises="""
+ValueError
+    If ``logw`` has no particle on its last axis or holds NaN or ``+inf``.
+""")
+#: The ``Raises`` section of the functions that also take resampling uniforms.
+_RAISES_U = (("ValueError", "If ``logw`` has no particle on its last axis or holds NaN or "
+                            "``+inf``, or ``u``\nis not one uniform in ``[0, 1)`` per row."),)
+
+
 # ----------------------------------------------------------------------------- weights
+@_doc(returns=(("numpy.ndarray", "The normalized log weights ``(..., P)`` (uniform for a row "
+                                 "without weight)."),
+               ("numpy.ndarray", "``log sum exp logw`` per row ``(...)`` (``-inf`` for such a "
+                                 "row).")))
 def log_normalize(logw):
     """Normalize log weights over the last axis: ``(logw - log sum exp logw, log sum exp logw)``.
 
@@ -101,6 +126,7 @@ def log_normalize(logw):
     return out, lse[..., 0]
 
 
+@_doc(returns=("numpy.ndarray", "``(...)``, in ``[1, P]``."))
 def ess(logw):
     """Effective sample size ``1 / sum_j w_j^2`` per row (weights normalized first), in [1, P]."""
     lw, _ = log_normalize(logw)
@@ -116,6 +142,7 @@ def _check_u(u, lead: tuple[int, ...]) -> np.ndarray:
     return u
 
 
+@_doc(returns=("numpy.ndarray", "``int64 (..., P)``; every row sums to ``P``."), raises=_RAISES_U)
 def systematic_counts(logw, u) -> np.ndarray:
     """Number of offspring of each particle under systematic resampling, ``int64 (..., P)``.
 
@@ -148,6 +175,8 @@ def _systematic_flat(w, u) -> np.ndarray:
     return np.repeat(np.arange(counts.size), counts.ravel())
 
 
+@_doc(returns=("numpy.ndarray", "``int64 (..., P)``, non-decreasing within each row."),
+      raises=_RAISES_U)
 def systematic_resample(logw, u) -> np.ndarray:
     """Ancestor indices ``int64 (..., P)`` of systematic resampling (see :func:`systematic_counts`).
 
@@ -161,6 +190,7 @@ def systematic_resample(logw, u) -> np.ndarray:
     return idx.reshape(counts.shape)
 
 
+@_doc(returns=("numpy.ndarray", "The selected particles ``(..., P, d)``, a new array."), raises=())
 def resample(x, idx) -> np.ndarray:
     """Select particles row by row: ``out[..., j, :] = x[..., idx[..., j], :]``."""
     x = np.asarray(x)
@@ -168,6 +198,7 @@ def resample(x, idx) -> np.ndarray:
     return np.take_along_axis(x, idx[..., None], axis=-2)
 
 
+@_doc(returns=("numpy.ndarray", "``(..., d)``."))
 def weighted_mean(x, logw) -> np.ndarray:
     """``sum_j w_j x_j`` per row: ``x (..., P, d)``, ``logw (..., P)`` -> ``(..., d)``."""
     lw, _ = log_normalize(logw)
@@ -175,6 +206,8 @@ def weighted_mean(x, logw) -> np.ndarray:
     return (w[..., None, :] @ x)[..., 0, :]
 
 
+@_doc(returns=(("numpy.ndarray", "The mean ``(..., d)``."),
+               ("numpy.ndarray", "The covariance ``(..., d, d)``, symmetric.")))
 def weighted_mean_cov(x, logw) -> tuple[np.ndarray, np.ndarray]:
     """Weighted mean ``(..., d)`` and covariance ``sum_j w_j (x_j - m)(x_j - m)^T`` ``(..., d, d)``.
 
@@ -347,7 +380,14 @@ class LinearGaussianDynamics:
 
 # ----------------------------------------------------------------------------- the loop
 class FilterModel(Protocol):
-    """What :func:`run_filter` needs from a model (see the module docstring)."""
+    """What :func:`run_filter` needs from a model (see the module docstring).
+
+    Attributes
+    ----------
+    dim : int
+        The state dimension ``d``. The methods ``initial``, ``transition``, ``log_weight`` and
+        ``observe`` are described in the module docstring.
+    """
 
     dim: int
 
@@ -364,11 +404,19 @@ class FilterModel(Protocol):
 class FilterOutput:
     """Output of :func:`run_filter` for ``n`` trials and times ``t = 1..steps``.
 
-    ``mean (n, steps, d)`` and ``cov (n, steps, d, d)``: the weighted estimate of ``x_t`` given
-    the data up to ``t`` (before resampling); ``ess (n, steps)``: effective sample size after
-    weighting; ``log_evidence (n,)``: ``sum_t log(mean_j w_{t,j})`` (the log-likelihood of the
-    data under the weights' model, up to the constants the model dropped); ``collapsed
-    (n, steps)``: no particle had positive weight (the step's data were ignored for that trial).
+    Attributes
+    ----------
+    mean, cov : numpy.ndarray
+        ``(n, steps, d)`` and ``(n, steps, d, d)``: the weighted estimate of ``x_t`` given the
+        data up to ``t`` (before resampling); ``cov`` is NaN unless the model ``needs_cov``.
+    ess : numpy.ndarray
+        ``(n, steps)``: effective sample size after weighting.
+    log_evidence : numpy.ndarray
+        ``(n,)``: ``sum_t log(mean_j w_{t,j})`` (the log-likelihood of the data under the
+        weights' model, up to the constants the model dropped).
+    collapsed : numpy.ndarray
+        ``(n, steps)``, bool: no particle had positive weight (the step's data were ignored for
+        that trial).
     """
 
     mean: np.ndarray

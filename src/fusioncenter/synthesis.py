@@ -35,17 +35,11 @@ Entry points (signature, one line each):
 
 * ``scenario_model(scenario) -> LinearGaussianModel``: the same model for the Kalman filters.
 * ``outage_threshold(outage, channel)``, ``energy_matched_outage(outage_full, rate)``.
-* ``draw(rng, n, scenario, channel)`` -> ``Draw``: truth, measurements, uniforms, channel gains
-  (the truth and measurements are those of :func:`fusioncenter.censoring.run`'s trials).
-* ``kf_filter(scenario, z, xi, lost, scheme, *, delta=None, p=None, receiver="csi")``
-  -> ``KFOutput``: the Kalman-filter family on given data.
-* ``KFRun(scheme, delta=None, p=None, outage=0.0, receiver="csi")``: one configuration;
-  ``kf_chunk`` / ``run_kf(scenario, runs, *, n_trials, seed, ...)`` run several on the same trials.
-* ``run_pf(scenario, scheme, *, l, n_trials, n_particles, seed, outage=0.0, receiver="csi")``:
-  CFoMD / CFwMD with state feedback over the faded link (with ``outage = 0`` the same filter as
-  :func:`fusioncenter.censoring.run` on the same trials; its own particle stream).
-* ``Summary``: per-trial squared errors and transmissions of any of the above, with
-  ``tavg_rmse``, ``rate`` and ``paired_difference``; ``summary_from_censoring(result)``.
+* ``draw(rng, n, scenario, channel) -> Draw``: the trials of ``censoring.run``, the gains.
+* ``kf_filter(scenario, z, xi, lost, scheme, *, delta, p, receiver) -> KFOutput``: given data.
+* ``KFRun(scheme, delta, p, outage, receiver)``, ``kf_chunk``, ``run_kf(scenario, runs, ...)``.
+* ``run_pf(scenario, scheme, *, l, n_trials, n_particles, seed, outage, receiver) -> Summary``.
+* ``Summary`` (``tavg_rmse``, ``rate``, ``paired_difference``), ``summary_from_censoring``.
 * ``kf_flops(n, m)``, ``pf_flops(n, m, n_particles, scheme)``: operation counts per step.
 """
 
@@ -59,7 +53,9 @@ from typing import NamedTuple
 import numpy as np
 
 from fusioncenter import censoring, montecarlo, particle
+from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import posint as _posint
 from fusioncenter.fading import Rayleigh
 from fusioncenter.kalman import LinearGaussianModel, kalman_step
 
@@ -91,6 +87,49 @@ KF_SCHEMES = ("all-send", "random", "stochastic")
 PF_SCHEMES = ("cfomd", "cfwmd")
 #: How the FC reads a missing packet (see the module docstring).
 RECEIVERS = ("csi", "naive")
+
+#: The arguments of the module's functions, by name.
+_doc = Glossary("""
+scenario : fusioncenter.censoring.LinearScenario
+    The tracking problem.
+rng : numpy.random.Generator
+    The block's generator (spawned as :func:`draw` says).
+n : int
+    Trials of the block.
+channel : Rayleigh, optional
+    The law of the power gains (default ``Rayleigh(1)``, mean gain 1).
+z : array_like
+    Measurements ``(n, T, N)``.
+xi : array_like
+    Uniforms in ``[0, 1]`` ``(n, T, N)``, used as in :class:`Draw`.
+lost : array_like
+    Boolean ``(n, T, N)``: the channel was in outage (a packet sent then is not decoded).
+scheme : str
+    One of :data:`KF_SCHEMES`.
+delta : float or array_like, optional
+    ``"stochastic"`` only: the trigger parameter, ``> 0``, shared or one per sensor.
+p : float or array_like, optional
+    ``"random"`` only: the send probability in ``[0, 1]``, shared or one per sensor.
+outage : float
+    Outage probability of every packet, in ``[0, 1)``.
+receiver : str
+    How the FC reads a missing packet, one of :data:`RECEIVERS`.
+runs : sequence of KFRun
+    The configurations, run on the same trials.
+l : float
+    Average number of sensors sending per step (sets ``eta = censoring.threshold(l, N)``).
+n_trials : int
+    Number of Monte Carlo trials.
+n_particles : int
+    Particles per trial, ``>= 1``.
+seed : int
+    Non-negative seed; with ``n_trials`` and ``block_size`` it fixes the trials.
+block_size, executor, chunk_size
+    As in :func:`fusioncenter.montecarlo.simulate`.
+""", raises="""
+ValueError
+    If an argument is invalid (the message names it).
+""")
 
 
 # ----------------------------------------------------------------------------- validation
@@ -127,6 +166,7 @@ def _per_sensor(name: str, value, N: int) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- model, link
+@_doc(returns=("LinearGaussianModel", "The scenario's model (one row of ``C`` per sensor)."))
 def scenario_model(scenario) -> LinearGaussianModel:
     """The scenario as a :class:`~fusioncenter.kalman.LinearGaussianModel` (``A = F``, ``C = H``,
     ``R = diag(r)``, ``m0 = x0``, ``P0``); for the defaults this is
@@ -137,11 +177,11 @@ def scenario_model(scenario) -> LinearGaussianModel:
                                P0=dyn.P0)
 
 
+@_doc(returns=("float", "``g_th >= 0``."))
 def outage_threshold(outage, channel: Rayleigh | None = None) -> float:
     """The power-gain threshold ``g_th`` with ``P(g < g_th) = outage`` for a Rayleigh channel.
 
-    ``g ~ Exp(mean 1/lam)``: ``g_th = -log(1 - outage) / lam`` (``channel`` defaults to
-    ``Rayleigh(1)``, mean power gain 1).
+    ``g ~ Exp(mean 1/lam)``: ``g_th = -log(1 - outage) / lam``.
     """
     eps = _outage(outage)
     channel = Rayleigh(1.0) if channel is None else channel
@@ -150,6 +190,9 @@ def outage_threshold(outage, channel: Rayleigh | None = None) -> float:
     return float(-math.log1p(-eps) / channel.lam)
 
 
+@_doc(returns=("float or numpy.ndarray", "The outage probability, broadcast over the arguments."),
+      outage_full=("array_like", "Outage when sending at every step, in ``[0, 1)``."),
+      rate=("array_like", "Fraction of the steps with a packet, in ``[0, 1]``."))
 def energy_matched_outage(outage_full, rate):
     """Outage of a sensor that sends a fraction ``rate`` of the steps with the energy that
     sending at every step with outage ``outage_full`` would use.
@@ -168,10 +211,20 @@ def energy_matched_outage(outage_full, rate):
 
 
 class Draw(NamedTuple):
-    """One block of trials: truth ``x (n, T+1, 2)``, measurements ``z (n, T, N)``, uniforms
-    ``xi (n, T, N)`` (random selection sends iff ``xi < p``, the trigger iff
-    ``xi > exp(-nu^2 / (2 delta))``), channel power gains ``gain (n, T, N)``, and the generator
-    left for the particle filter."""
+    """One block of trials (:func:`draw`).
+
+    Attributes
+    ----------
+    x, z : numpy.ndarray
+        The truth ``(n, T+1, 2)`` (``x[:, 0] = x_0``) and the measurements ``(n, T, N)``.
+    xi : numpy.ndarray
+        Uniforms ``(n, T, N)``: random selection sends iff ``xi < p``, the trigger iff
+        ``xi > exp(-nu^2 / (2 delta))``.
+    gain : numpy.ndarray
+        Channel power gains ``(n, T, N)``.
+    rng_pf : numpy.random.Generator
+        The generator left for the particle filter.
+    """
 
     x: np.ndarray
     z: np.ndarray
@@ -180,15 +233,16 @@ class Draw(NamedTuple):
     rng_pf: np.random.Generator
 
 
+@_doc(returns=("Draw", "The block's truth, measurements, uniforms, gains and particle stream."))
 def draw(rng: np.random.Generator, n: int, scenario, channel: Rayleigh | None = None) -> Draw:
     """Draw a block of trials exactly as :func:`fusioncenter.censoring.run` does, plus the link.
 
     ``rng.spawn(3)``: the first child draws the truth, the measurements and the uniforms in
     ``censoring``'s documented order (so a run here with the same ``seed``, ``n_trials`` and
     ``block_size`` as ``censoring.run`` sees the same trajectories and measurements), the second
-    is the particle filter's, the third draws the channel gains (``channel``, default
-    ``Rayleigh(1)``). The gains do not depend on the outage probability, so the lost packets at a
-    larger outage include those at a smaller one (nested losses, for paired comparisons).
+    is the particle filter's, the third draws the channel gains. The gains do not depend on the
+    outage probability, so the lost packets at a larger outage include those at a smaller one
+    (nested losses, for paired comparisons).
     """
     sc = _scenario(scenario)
     channel = Rayleigh(1.0) if channel is None else channel
@@ -202,8 +256,15 @@ def draw(rng: np.random.Generator, n: int, scenario, channel: Rayleigh | None = 
 # ----------------------------------------------------------------------------- Kalman family
 @dataclass(frozen=True)
 class KFOutput:
-    """Filtered means ``xhat (n, T, 2)`` and covariances ``P (n, T, 2, 2)``, who sent
-    ``sent (n, T, N)`` and whose packet arrived ``arrived (n, T, N)``."""
+    """Output of :func:`kf_filter`.
+
+    Attributes
+    ----------
+    xhat, P : numpy.ndarray
+        Filtered means ``(n, T, 2)`` and covariances ``(n, T, 2, 2)``.
+    sent, arrived : numpy.ndarray
+        Boolean ``(n, T, N)``: who sent, whose packet arrived.
+    """
 
     xhat: np.ndarray
     P: np.ndarray
@@ -235,21 +296,21 @@ def _scheme_params(scheme: str, N: int, delta, p):
     return None, None
 
 
+@_doc(returns=("KFOutput", "The filtered moments and who sent and arrived, per trial and step."))
 def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
               receiver: str = "csi") -> KFOutput:
     """The Kalman-filter family on given data, vectorized over trials.
 
-    ``z``, ``xi``: ``(n, T, N)`` as in :class:`Draw`; ``lost``: boolean ``(n, T, N)``, the
-    channel in outage (a packet sent then is not decoded). At step ``t`` every sensor computes its
-    innovation against the FC's broadcast prediction, ``nu_i = z_i - h_i xhat_{t|t-1}``, and
-    decides: all-send always sends; random selection iff ``xi < p_i``; the stochastic trigger iff
-    ``xi > exp(-nu_i^2 / (2 delta_i))`` (mo2015). A packet arrives iff sent and not lost. The FC
-    updates with the arrived measurements (noise ``r_i``) and, for the trigger only, with every
-    sensor it believes silent as the measurement ``nu_i = 0`` with noise ``r_i + delta_i``:
-    receiver ``"csi"`` believes silent the sensors whose channel was good, ``"naive"`` every
-    sensor whose packet is missing. All other missing sensors are dropped (a zero row of ``C``).
-    Each step is one :func:`fusioncenter.kalman.kalman_step` with that ``C_k`` and
-    ``R_k = diag(noise)`` (the library's letters: ``A`` is the scenario's ``F``, ``C`` its ``H``).
+    At step ``t`` every sensor computes its innovation against the FC's broadcast prediction,
+    ``nu_i = z_i - h_i xhat_{t|t-1}``, and decides: all-send always sends; random selection iff
+    ``xi < p_i``; the stochastic trigger iff ``xi > exp(-nu_i^2 / (2 delta_i))`` (mo2015). A
+    packet arrives iff sent and not lost. The FC updates with the arrived measurements (noise
+    ``r_i``) and, for the trigger only, with every sensor it believes silent as the measurement
+    ``nu_i = 0`` with noise ``r_i + delta_i``: receiver ``"csi"`` believes silent the sensors
+    whose channel was good, ``"naive"`` every sensor whose packet is missing. All other missing
+    sensors are dropped (a zero row of ``C``). Each step is one
+    :func:`fusioncenter.kalman.kalman_step` with that ``C_k`` and ``R_k = diag(noise)`` (the
+    library's letters: ``A`` is the scenario's ``F``, ``C`` its ``H``).
     """
     sc = _scenario(scenario)
     receiver = _receiver(receiver)
@@ -299,6 +360,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
     return KFOutput(xhat=xhat, P=Ps, sent=sent_all, arrived=arr_all)
 
 
+@_doc.attributes()
 @dataclass(frozen=True)
 class KFRun:
     """One Kalman-filter configuration for :func:`run_kf` (validated when run)."""
@@ -316,10 +378,11 @@ class KFRun:
 COLUMNS = ("sq_pos", "sq_vel", "trace_P", "sent", "arrived")
 
 
+@_doc(returns=("numpy.ndarray", "``(n, T, len(runs), 5)``, the columns :data:`COLUMNS`."))
 def kf_chunk(rng: np.random.Generator, n: int, *, scenario, runs: tuple,
              channel: Rayleigh | None = None) -> np.ndarray:
     """``chunk_fn`` for :func:`fusioncenter.montecarlo.simulate`: every run of ``runs`` on the
-    same ``n`` trials. Returns ``(n, T, len(runs), 5)`` with the columns :data:`COLUMNS`."""
+    same ``n`` trials."""
     d = draw(rng, n, scenario, channel)
     ch = Rayleigh(1.0) if channel is None else channel
     out = np.empty((n, scenario.T, len(runs), len(COLUMNS)))
@@ -335,6 +398,7 @@ def kf_chunk(rng: np.random.Generator, n: int, *, scenario, runs: tuple,
     return out
 
 
+@_doc(returns=("list of Summary", "One per run, in the order of ``runs``."))
 def run_kf(scenario, runs, *, n_trials: int, seed: int, channel: Rayleigh | None = None,
            block_size: int = montecarlo.DEFAULT_BLOCK_SIZE, executor=None,
            chunk_size: int | None = None) -> list[Summary]:
@@ -449,6 +513,8 @@ def _pf_chunk(rng, n, *, scenario, scheme, receiver, eta, outage, n_particles, c
     return out
 
 
+@_doc(returns=("Summary", "Per-trial results; ``trace_P`` is NaN."),
+      scheme=("str", "One of :data:`PF_SCHEMES`."))
 def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: int,
            outage: float = 0.0, receiver: str = "csi", channel: Rayleigh | None = None,
            block_size: int = montecarlo.DEFAULT_BLOCK_SIZE, executor=None,
@@ -466,11 +532,9 @@ def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: i
     if scheme not in PF_SCHEMES:
         raise ValueError(f"scheme must be one of {PF_SCHEMES}, got {scheme!r}")
     eta = censoring.threshold(l, sc.N)
-    if isinstance(n_particles, bool) or not isinstance(n_particles, int | np.integer) \
-            or n_particles < 1:
-        raise ValueError(f"n_particles must be a positive integer, got {n_particles!r}")
+    n_particles = _posint("n_particles", n_particles)
     fn = functools.partial(_pf_chunk, scenario=sc, scheme=scheme, receiver=_receiver(receiver),
-                           eta=eta, outage=_outage(outage), n_particles=int(n_particles),
+                           eta=eta, outage=_outage(outage), n_particles=n_particles,
                            channel=channel)
     mc = montecarlo.simulate(fn, n_trials, seed, block_size=block_size, executor=executor,
                              chunk_size=chunk_size)
@@ -479,13 +543,12 @@ def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: i
 
 
 # ----------------------------------------------------------------------------- summaries
+@_doc.attributes(label=("str", "The scheme (and link) it summarizes."),
+                 samples=("numpy.ndarray", "``(n_trials, T, 5)``, the columns :data:`COLUMNS`."))
 @dataclass(frozen=True)
 class Summary(montecarlo.PerTrial):
-    """Per-trial results ``samples (n_trials, T, 5)`` (columns :data:`COLUMNS`) of one scheme.
-
-    ``seed`` and ``block_size`` identify the trials: two summaries with equal ``seed``,
-    ``block_size`` and ``n_trials`` are paired (same trajectories and measurements).
-    """
+    """Per-trial results of one scheme; ``seed`` and ``block_size`` identify the trials: two
+    summaries with equal ``seed``, ``block_size`` and ``n_trials`` are paired (same trials)."""
 
     label: str
     samples: np.ndarray = field(repr=False)
@@ -556,6 +619,8 @@ def _se(per: np.ndarray) -> float:
     return float(per.std(ddof=1) / math.sqrt(per.size)) if per.size > 1 else math.nan
 
 
+@_doc(returns=("Summary", "Labelled with the result's scheme; ``trace_P`` is NaN."),
+      result=("fusioncenter.censoring.CensoringResult", "A run of the particle-filter family."))
 def summary_from_censoring(result) -> Summary:
     """A :class:`Summary` of a :class:`fusioncenter.censoring.CensoringResult` (its documented
     ``mc.samples`` columns ``[sq error (2) | sensors that sent | ESS | collapsed]``); every
@@ -583,12 +648,12 @@ def _solve(k: int, rhs: int) -> int:
     return (2 * k**3) // 3 + 2 * k * k * rhs
 
 
+@_doc(returns=("dict", '``{"flops": int, "special": int}``.'), raises=(),
+      n=("int", "State dimension."), m=("int", "Number of sensors."))
 def kf_flops(n: int = 2, m: int = 2) -> dict[str, int]:
     """Operation count of one step of :func:`kf_filter` for one trial (``n`` states, ``m``
-    sensors), term by term as the code computes it (a dropped or silent sensor costs the same).
-
-    Returns the counts of ``flops`` (additions and multiplications) and of ``special``
-    (exponentials in the trigger) per step.
+    sensors), term by term as the code computes it (a dropped or silent sensor costs the same):
+    ``flops`` counts additions and multiplications, ``special`` the exponentials of the trigger.
     """
     f = 0
     f += _matmul(1, n, m) + m  # innovations nu = z - xpred H^T
@@ -602,6 +667,9 @@ def kf_flops(n: int = 2, m: int = 2) -> dict[str, int]:
     return {"flops": int(f), "special": m}
 
 
+@_doc(returns=("dict", '``{"flops": int, "special": int}``, for all the particles.'),
+      n=("int", "State dimension."), m=("int", "Number of sensors."),
+      scheme=("str", '``"all-send"``, ``"random"``, ``"cfomd"`` or ``"cfwmd"``.'))
 def pf_flops(n: int = 2, m: int = 2, n_particles: int = 1000,
              scheme: str = "cfwmd") -> dict[str, int]:
     """Operation count of one step of the particle filter (zheng2014, state feedback) for one
@@ -616,9 +684,7 @@ def pf_flops(n: int = 2, m: int = 2, n_particles: int = 1000,
     if scheme not in ("all-send", "random") + PF_SCHEMES:
         raise ValueError(f"scheme must be 'all-send', 'random', 'cfomd' or 'cfwmd', "
                          f"got {scheme!r}")
-    if isinstance(n_particles, bool) or not isinstance(n_particles, int | np.integer) \
-            or n_particles < 1:
-        raise ValueError(f"n_particles must be a positive integer, got {n_particles!r}")
+    n_particles = _posint("n_particles", n_particles)
     per = _matmul(1, n, n) + 2 * n  # F x + L u
     per += m * (2 * n - 1)  # h_i^T x
     per += 3 * m  # received: -(z - hx)^2 / (2 r)

@@ -255,6 +255,33 @@ def sub_blocks(n: int, P: int) -> list[slice]:
     return [slice(s0, min(n, s0 + sub)) for s0 in range(0, n, sub)]
 
 
+def silent_rows(fc, g, n_obs):
+    """The trials of a block in which a sensor of the group ``g`` was silent, when the fusion
+    centre ``fc`` uses silence in its likelihood (CFwMD with feedback); the step the linear and
+    vector FCs share before they add the silent factor to the log weights.
+
+    Parameters
+    ----------
+    fc : LinearFusionCentre or fusioncenter.censoring.vector_fusion model
+        A fusion centre with ``scheme`` and ``fb`` (feedback in use).
+    g : numpy.ndarray
+        The sensors of one group (equal observation models).
+    n_obs : numpy.ndarray
+        Per trial, the number of the group's sensors received at this step ``(n,)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        ``(n_sil, rows)``: ``len(g) - n_obs`` and the indices of its non-zero entries; ``None``
+        when ``fc`` does not use silence or no trial has a silent sensor in ``g``.
+    """
+    if fc.scheme != "cfwmd" or not fc.fb:
+        return None
+    n_sil = len(g) - n_obs
+    rows = np.flatnonzero(n_sil)
+    return (n_sil, rows) if rows.size else None
+
+
 class LinearFusionCentre:
     """The FC of a :class:`LinearScenario` as a model of :func:`fusioncenter.particle.run_filter`
     (every scheme except the exact no-feedback filter, :class:`ExactFusionCentre`).
@@ -366,12 +393,10 @@ class LinearFusionCentre:
                 if started:
                     lw += tmp
                 started = True
-            if self.scheme != "cfwmd" or not self.fb:
+            silent = silent_rows(self, g, n_obs)
+            if silent is None:
                 continue
-            n_sil = len(g) - n_obs
-            rows = np.flatnonzero(n_sil)
-            if rows.size == 0:
-                continue
+            n_sil, rows = silent
             sd = math.sqrt(rg)
             hp = self.pred_mean @ hg
             # most trials have a silent sensor: evaluate every row (no fancy indexing) and

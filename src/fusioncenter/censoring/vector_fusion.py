@@ -92,12 +92,10 @@ class _VectorFC(fusion.FeedbackModel):
                 d = x @ G - cbar[:, None, :]
                 out += (-0.5 * n_obs[:, None]) * (d * d).sum(axis=-1) \
                     - (0.5 * ss + 0.5 * n_obs * (self.m * _LOG_2PI + logdet))[:, None]
-            if self.scheme != "cfwmd" or not self.fb:
+            silent = fusion.silent_rows(self, g, n_obs)
+            if silent is None:
                 continue
-            n_sil = len(g) - n_obs
-            rows = np.flatnonzero(n_sil)
-            if rows.size == 0:
-                continue
+            n_sil, rows = silent
             dev = x[rows] - self.pred_mean[rows, None, :]
             if self.feedback == "state":
                 A = self.local["A"][k, g0]

@@ -39,11 +39,20 @@ SCHEMES = ("stochastic", "stochastic-ignore", "random", "all-send")
 class EventKFRun:
     """Output of :func:`event_kf_run` for ``n`` trials and ``T = steps + 1`` measurement times.
 
-    ``x``, ``xhat``: true and filtered states ``(n, T, nx)``; ``P``: each trial's filtered
-    covariance ``P_{k|k}`` ``(n, T, nx, nx)``; ``gamma``: who sent ``(n, T, m)`` (bool);
-    ``send_prob``: each sensor's send probability given the past, as the centre computes it
-    (``trigger_probability(s_{i,k}, delta_i)`` for the trigger, ``p_i`` for random selection,
-    1 for all-send), ``(n, T, m)``.
+    Attributes
+    ----------
+    x, xhat : numpy.ndarray
+        True and filtered states ``(n, T, nx)``.
+    P : numpy.ndarray
+        Each trial's filtered covariance ``P_{k|k}`` ``(n, T, nx, nx)``.
+    gamma : numpy.ndarray
+        Who sent, ``(n, T, m)`` (bool).
+    send_prob : numpy.ndarray
+        Each sensor's send probability given the past, as the centre computes it
+        (``trigger_probability(s_{i,k}, delta_i)`` for the trigger, ``p_i`` for random
+        selection, 1 for all-send), ``(n, T, m)``.
+    scheme : str
+        The transmission scheme, one of :data:`SCHEMES`.
     """
 
     x: np.ndarray
@@ -353,12 +362,24 @@ def steady_state_delta(model: LinearGaussianModel, rate, *, method: str = "mean-
 
 
 class Calibration(NamedTuple):
-    """Result of :func:`calibrate_delta`."""
+    """Result of :func:`calibrate_delta`.
 
-    delta: np.ndarray  #: per-sensor trigger parameter, ``(m,)``
-    rate: np.ndarray  #: achieved long-run send probability per sensor on the calibration sample
-    stderr: np.ndarray  #: its Monte Carlo standard error (across trials), ``(m,)``
-    iterations: int  #: simulations run
+    Attributes
+    ----------
+    delta : numpy.ndarray
+        Per-sensor trigger parameter, ``(m,)``.
+    rate : numpy.ndarray
+        Achieved long-run send probability per sensor on the calibration sample, ``(m,)``.
+    stderr : numpy.ndarray
+        Its Monte Carlo standard error (across trials), ``(m,)``.
+    iterations : int
+        Simulations run.
+    """
+
+    delta: np.ndarray
+    rate: np.ndarray
+    stderr: np.ndarray
+    iterations: int
 
 
 def _log_odds(rate):

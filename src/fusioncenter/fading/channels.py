@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.special
 
+from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import positive as _positive
 
 __all__ = ["exp_e1", "Rayleigh", "Nakagami"]
@@ -159,6 +160,15 @@ def _rate(name: str, value) -> float:
     return float(value)
 
 
+#: The parameters of the two laws.
+_doc = Glossary("""
+lam : float
+    ``1 / E[r]``, the inverse of the mean power gain: finite and ``> 0``.
+m : float
+    The Nakagami fading parameter (shape of the Gamma law), finite and ``>= 1/2``.
+""")
+
+
 class _PowerGainLaw:
     """What both laws share: the rate ``lam = 1 / E[r]`` of the power gain."""
 
@@ -168,6 +178,7 @@ class _PowerGainLaw:
         return 1.0 / self.lam
 
 
+@_doc.attributes(raises=(("ValueError", "If ``lam`` is not a finite number ``> 0``."),))
 @dataclass(frozen=True)
 class Rayleigh(_PowerGainLaw):
     """Rayleigh fading: the power gain ``r = h^2`` is exponential with mean ``1 / lam``.
@@ -212,6 +223,8 @@ class Rayleigh(_PowerGainLaw):
         return np.where(np.isposinf(m), 1.0, out)
 
 
+@_doc.attributes(raises=(("ValueError", "If ``m`` or ``lam`` is out of range (the message names "
+                                       "it)."),))
 @dataclass(frozen=True)
 class Nakagami(_PowerGainLaw):
     """Nakagami-m fading: ``r = h^2`` is Gamma with shape ``m`` and mean ``1 / lam``.

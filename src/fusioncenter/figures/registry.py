@@ -99,6 +99,22 @@ class Claim:
     string ``"False"``, is a ``TypeError``, never a pass. ``paper_specific`` marks a claim about
     the paper's own setting (its printed numbers, its ``N`` or ``l``): ``verify`` skips it when
     a model parameter is overridden.
+
+    Attributes
+    ----------
+    name : str
+        What is claimed, in words.
+    passed : bool
+        Whether the data bear the claim out.
+    detail : str
+        The numbers behind the verdict (shown next to it), or ``""``.
+    paper_specific : bool
+        The claim is about the paper's own setting.
+
+    Raises
+    ------
+    TypeError
+        If ``passed`` or ``paper_specific`` is not a ``bool`` (``passed`` may be a NumPy bool).
     """
 
     name: str
@@ -124,6 +140,18 @@ def nonfinite_keys(data: dict, allowed=()) -> list[str]:
 
     Floats, complex numbers and numeric arrays are inspected, also inside lists, tuples and
     nested dicts (``outer.inner``); text and integers are never non-finite.
+
+    Parameters
+    ----------
+    data : dict
+        An entry's computed data.
+    allowed : container of str
+        Keys whose values may be non-finite (skipped).
+
+    Returns
+    -------
+    list of str
+        The offending top-level keys, as strings, in the order of ``data``.
     """
     bad = []
 
@@ -149,12 +177,57 @@ def nonfinite_keys(data: dict, allowed=()) -> list[str]:
 
 @dataclass
 class Entry:
+    """A figure or table of the book: what it shows, and the functions that compute it, draw it
+    and check the paper's claims on it.
+
+    Attributes
+    ----------
+    id : str
+        The stable id (``python -m fusioncenter list``).
+    paper : str
+        A key of :data:`PAPERS`.
+    kind : str
+        ``"figure"`` or ``"table"``.
+    caption : str
+        What the figure or table shows.
+    chapter : str
+        Sphinx docname of the chapter, e.g. ``"book/background/kalman-riccati"``.
+    label : str
+        MyST target in that chapter (``""``: the chapter itself).
+    parameters : dict
+        The model and run parameters behind the figure, as plain data (shown by
+        :meth:`summary`).
+    compute : callable or None
+        ``compute(profile, seed, **overrides) -> dict`` of plain data.
+    plot : callable or None
+        ``plot(data)`` -> a matplotlib Figure.
+    checks : callable or None
+        ``checks(data)`` -> a list of :class:`Claim`.
+    status : str
+        One of :data:`STATUSES`.
+    note : str
+        How and why the result differs from the paper (required for ``"differs"``).
+    seed : int
+        The default seed of :meth:`run_compute`.
+    settable : tuple of Parameter
+        The parameters ``compute`` accepts as keyword overrides (``--set key=value``).
+    nonfinite_ok : tuple of str
+        Data keys in which NaN or inf are legitimate values (e.g. an undefined z-score); in any
+        other key they make every claim fail (see :meth:`run_checks`).
+
+    Raises
+    ------
+    ValueError
+        If ``paper``, ``kind`` or ``status`` is unknown, a status other than ``"not-started"``
+        lacks ``compute`` or ``checks``, or ``"differs"`` lacks a ``note``.
+    """
+
     id: str
     paper: str
-    kind: str  # "figure" | "table"
+    kind: str
     caption: str
-    chapter: str  # Sphinx docname of the chapter, e.g. "book/background/kalman-riccati"
-    label: str = ""  # MyST target in that chapter ("" = the chapter itself)
+    chapter: str
+    label: str = ""
     parameters: dict[str, Any] = field(default_factory=dict)
     compute: Callable[..., dict] | None = None
     plot: Callable[[dict], Any] | None = None
@@ -162,10 +235,7 @@ class Entry:
     status: str = "not-started"
     note: str = ""
     seed: int = 20260101
-    #: The parameters ``compute`` accepts as keyword overrides (``--set key=value``).
     settable: tuple[Parameter, ...] = ()
-    #: Data keys in which NaN or inf are legitimate values (e.g. an undefined z-score); in any
-    #: other key they make every claim fail (see :meth:`run_checks`).
     nonfinite_ok: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
@@ -382,6 +452,23 @@ def register(entry: Entry) -> Entry:
 
 
 def get(entry_id: str) -> Entry:
+    """The registered entry with the id ``entry_id``.
+
+    Parameters
+    ----------
+    entry_id : str
+        A registry id.
+
+    Returns
+    -------
+    Entry
+        The entry (the modules that register entries are imported first).
+
+    Raises
+    ------
+    UnknownEntry
+        If no entry has that id (the message suggests close ids).
+    """
     _load()
     try:
         return REGISTRY[entry_id]
@@ -396,7 +483,13 @@ def get(entry_id: str) -> Entry:
 
 
 def own_ids() -> set[str]:
-    """Ids of the book's own figures, as declared by the modules' ``OWN_IDS``."""
+    """Ids of the book's own figures, as declared by the modules' ``OWN_IDS``.
+
+    Returns
+    -------
+    set of str
+        The union of the registering modules' ``OWN_IDS``.
+    """
     import importlib
 
     _load()
@@ -413,11 +506,24 @@ def _order(entry: Entry) -> tuple:
 
 
 def ids() -> list[str]:
+    """The id of every entry, in the order of :func:`entries`.
+
+    Returns
+    -------
+    list of str
+        The ids.
+    """
     return [e.id for e in entries()]
 
 
 def entries() -> list[Entry]:
-    """Every entry, ordered by paper (as in ``PAPERS``), then as the paper numbers them."""
+    """Every entry, ordered by paper (as in ``PAPERS``), then as the paper numbers them.
+
+    Returns
+    -------
+    list of Entry
+        The entries; the book's own keep the order in which they were registered.
+    """
     _load()
     return sorted(REGISTRY.values(), key=_order)  # stable: own entries keep their order
 
