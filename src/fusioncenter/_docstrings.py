@@ -139,7 +139,8 @@ class Glossary:
                 continue
             shown = f"**{p.name}" if p.kind is p.VAR_KEYWORD else p.name
             entry = self._entry(p.name, overrides)
-            if groups and groups[-1][1] == entry:
+            # napoleon reads "a, b : type" under Attributes as the attribute "a, b": one each
+            if groups and groups[-1][1] == entry and title != "Attributes":
                 groups[-1][0].append(shown)
             else:
                 groups.append(([shown], entry))

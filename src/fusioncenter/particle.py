@@ -406,9 +406,11 @@ class FilterOutput:
 
     Attributes
     ----------
-    mean, cov : numpy.ndarray
-        ``(n, steps, d)`` and ``(n, steps, d, d)``: the weighted estimate of ``x_t`` given the
-        data up to ``t`` (before resampling); ``cov`` is NaN unless the model ``needs_cov``.
+    mean : numpy.ndarray
+        ``(n, steps, d)``: the weighted estimate of ``x_t`` given the data up to ``t`` (before
+        resampling).
+    cov : numpy.ndarray
+        ``(n, steps, d, d)``: its weighted covariance; NaN unless the model ``needs_cov``.
     ess : numpy.ndarray
         ``(n, steps)``: effective sample size after weighting.
     log_evidence : numpy.ndarray

@@ -31,16 +31,11 @@ likelihood. ``"naive"``: the FC ignores the channel and treats every missing pac
 drop missing packets, which is exact (all-send, random: the loss is independent of the data) or
 already an approximation (CFoMD) whatever the receiver.
 
-Entry points (signature, one line each):
-
-* ``scenario_model(scenario) -> LinearGaussianModel``: the same model for the Kalman filters.
-* ``outage_threshold(outage, channel)``, ``energy_matched_outage(outage_full, rate)``.
-* ``draw(rng, n, scenario, channel) -> Draw``: the trials of ``censoring.run``, the gains.
-* ``kf_filter(scenario, z, xi, lost, scheme, *, delta, p, receiver) -> KFOutput``: given data.
-* ``KFRun(scheme, delta, p, outage, receiver)``, ``kf_chunk``, ``run_kf(scenario, runs, ...)``.
-* ``run_pf(scenario, scheme, *, l, n_trials, n_particles, seed, outage, receiver) -> Summary``.
-* ``Summary`` (``tavg_rmse``, ``rate``, ``paired_difference``), ``summary_from_censoring``.
-* ``kf_flops(n, m)``, ``pf_flops(n, m, n_particles, scheme)``: operation counts per step.
+Entry points (each documented below): the model :func:`scenario_model`, the channel
+(:func:`outage_threshold`, :func:`energy_matched_outage`, :func:`draw`), the Kalman filters
+(:func:`kf_filter`, :class:`KFRun`, :func:`kf_chunk`, :func:`run_kf`), the particle filters
+(:func:`run_pf`, :class:`Summary`, :func:`summary_from_censoring`) and the operation counts
+(:func:`kf_flops`, :func:`pf_flops`).
 """
 
 from __future__ import annotations
@@ -215,8 +210,10 @@ class Draw(NamedTuple):
 
     Attributes
     ----------
-    x, z : numpy.ndarray
-        The truth ``(n, T+1, 2)`` (``x[:, 0] = x_0``) and the measurements ``(n, T, N)``.
+    x : numpy.ndarray
+        The truth ``(n, T+1, 2)`` (``x[:, 0] = x_0``).
+    z : numpy.ndarray
+        The measurements ``(n, T, N)``.
     xi : numpy.ndarray
         Uniforms ``(n, T, N)``: random selection sends iff ``xi < p``, the trigger iff
         ``xi > exp(-nu^2 / (2 delta))``.
@@ -260,10 +257,14 @@ class KFOutput:
 
     Attributes
     ----------
-    xhat, P : numpy.ndarray
-        Filtered means ``(n, T, 2)`` and covariances ``(n, T, 2, 2)``.
-    sent, arrived : numpy.ndarray
-        Boolean ``(n, T, N)``: who sent, whose packet arrived.
+    xhat : numpy.ndarray
+        Filtered means ``(n, T, 2)``.
+    P : numpy.ndarray
+        Filtered covariances ``(n, T, 2, 2)``.
+    sent : numpy.ndarray
+        Boolean ``(n, T, N)``: who sent.
+    arrived : numpy.ndarray
+        Boolean ``(n, T, N)``: whose packet arrived.
     """
 
     xhat: np.ndarray

@@ -41,8 +41,10 @@ class EventKFRun:
 
     Attributes
     ----------
-    x, xhat : numpy.ndarray
-        True and filtered states ``(n, T, nx)``.
+    x : numpy.ndarray
+        True states ``(n, T, nx)``.
+    xhat : numpy.ndarray
+        Filtered states ``(n, T, nx)``.
     P : numpy.ndarray
         Each trial's filtered covariance ``P_{k|k}`` ``(n, T, nx, nx)``.
     gamma : numpy.ndarray

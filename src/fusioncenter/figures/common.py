@@ -51,7 +51,7 @@ ValueError
 _decorators = Glossary("""
 returns : str
     What the function returns; a triple-quoted string may continue on indented lines
-    (:func:`inspect.cleandoc` removes the indentation).
+    (``inspect.cleandoc`` removes the indentation).
 **overrides
     Descriptions of arguments particular to the decorated function (``name=(type, text)``).
 """)

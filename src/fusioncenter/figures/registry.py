@@ -204,7 +204,7 @@ class Entry:
     checks : callable or None
         ``checks(data)`` -> a list of :class:`Claim`.
     status : str
-        One of :data:`STATUSES`.
+        One of ``STATUSES``: "not-started", "reproduced" or "differs".
     note : str
         How and why the result differs from the paper (required for ``"differs"``).
     seed : int

@@ -143,7 +143,7 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
              constraints), ``acceptance``; ``lmmse_M``, ``lmmse_z``, ``lmmse_mse_ratio``,
              ``lmmse_trials``, ``lmmse_steps`` (the check of (32)-(33)); orthogonal access also
              ``multi_loss_ratio``, ``loss_diff(_stderr)``.""", **PANEL_DOC,
-             over="Overrides of ``realizations`` and ``steps`` (:data:`SETTABLE_FADING`).")
+             over="Overrides of ``realizations`` and ``steps`` (``SETTABLE_FADING``).")
 def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     """Data of ``leong2011-fig5a`` ... ``fig6b``: full CSI against no CSI on Rician fading,
     per number of sensors (paired realizations)."""
