@@ -42,6 +42,15 @@ def interpreter(version: str) -> str | None:
     return found[-1] if found else shutil.which(f"python{version}")
 
 
+def installer(vpy: str) -> list[str]:
+    """The install command for the environment of ``vpy``: the book environment's uv (installed
+    by tools/bootstrap.sh; the same pins, in parallel), else that environment's pip."""
+    uv = Path(sys.executable).parent / "uv"
+    if uv.exists():
+        return [str(uv), "pip", "install", "--quiet", "--python", vpy]
+    return [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+
+
 def main(argv: list[str] | None = None) -> int:
     versions = (argv if argv is not None else sys.argv[1:]) or VERSIONS
     failed = []
@@ -64,11 +73,10 @@ def main(argv: list[str] | None = None) -> int:
             if not (venv / "bin" / "python").exists():
                 subprocess.run([py, "-m", "venv", str(venv)], check=True)
             vpy = str(venv / "bin" / "python")
-            subprocess.run([vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-                            "-c", str(ROOT / "requirements" / "lock.txt"), "--force-reinstall",
-                            "--no-deps", str(wheel)], check=True)
-            subprocess.run([vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-                            "-c", str(ROOT / "requirements" / "lock.txt"),
+            install = installer(vpy)
+            subprocess.run([*install, "-c", str(ROOT / "requirements" / "lock.txt"),
+                            "--force-reinstall", "--no-deps", str(wheel)], check=True)
+            subprocess.run([*install, "-c", str(ROOT / "requirements" / "lock.txt"),
                             f"fusioncenter[dask,notebook] @ {wheel.as_uri()}", "pytest",
                             "hypothesis", "pyyaml"], check=True)
             t1 = time.perf_counter()
