@@ -214,3 +214,34 @@ def test_fig3_takes_fig1s_all_send_and_random_runs():
     runs.forget_runs()
     linear._fig1_runs.cache_clear()
     linear._fig3_runs.cache_clear()
+
+
+def test_kept_runs_are_stored_in_the_compute_cache(tmp_path, monkeypatch):
+    from fusioncenter import censoring as cs
+    from fusioncenter.figures import registry
+    from fusioncenter.figures.zheng2014 import runs
+
+    runs.forget_runs()
+    monkeypatch.setenv(registry.CACHE_ENV, str(tmp_path))
+    sc, kw = cs.LinearScenario(N=2), dict(l=1.0, P=20, seed=9)
+    made = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    assert len(list((tmp_path / "zheng2014-runs").glob("*.pickle"))) == 1
+    runs.forget_runs()  # a fresh process: read back, not run again
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("ran again")
+
+    monkeypatch.setattr(runs, "run_scheme", no_run)
+    again = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    assert np.array_equal(again.mc.samples, made.mc.samples)
+    runs.forget_runs()
+    first = runs.kept_run(sc, "cfomd", feedback="state", n=256, **kw)  # its first block
+    assert np.array_equal(first.mc.samples, made.mc.samples[:256])
+    with pytest.raises(AssertionError, match="ran again"):  # more trials: run
+        runs.kept_run(sc, "cfomd", feedback="state", n=768, **kw)
+    runs.forget_runs()
+    for f in (tmp_path / "zheng2014-runs").glob("*.pickle"):
+        f.write_bytes(b"broken")
+    with pytest.raises(registry.ComputeCacheError, match="unreadable"):
+        runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    runs.forget_runs()

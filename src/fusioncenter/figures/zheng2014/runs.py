@@ -12,17 +12,31 @@ scheme, what is fed back (where it matters), ``l``, the likelihood, the particle
 and the trials. A request for ``n`` trials is met by a kept run of more trials when ``n`` is a
 multiple of the block size (:data:`fusioncenter.montecarlo.DEFAULT_BLOCK_SIZE`): its first ``n``
 trials are then those of a run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
-The executor and the chunking are not part of the identity: they do not change the numbers. In a
-fresh process nothing is kept, and every run is computed.
+The executor and the chunking are not part of the identity: they do not change the numbers.
+
+If the environment variable :data:`fusioncenter.figures.registry.CACHE_ENV` names a folder (the
+book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one pickle per
+identity without the trials, holding the longest run made; written atomically, under a lock, so
+that a process needing a run another process is making waits and reads it): an entry computed
+in a fresh process then takes the runs another process made. That folder is the registry's
+compute cache, and is wiped with it (the book's build wipes it whenever the library changes).
+Unset (the tests, the command line), a fresh process keeps nothing and computes every run.
 """
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import hashlib
+import os
+import pickle
+import threading
 from collections import OrderedDict
+from pathlib import Path
 
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo
+from fusioncenter.figures.registry import CACHE_ENV, ComputeCacheError
 from fusioncenter.figures.zheng2014.common import run_scheme, subset
 
 #: The most runs kept (the least recently used is dropped first). A paper-profile run of the
@@ -44,6 +58,62 @@ def _identity(sc: cs.LinearScenario, scheme: str, feedback: str, l: float, likel
     return (sc, scheme, feedback, float(l), likelihood, int(P), int(seed))
 
 
+def _usable(m: int, n: int) -> bool:
+    """A run of ``m`` trials gives the numbers of a run of ``n``."""
+    return m == n or (m > n and n % montecarlo.DEFAULT_BLOCK_SIZE == 0)
+
+
+def _store(ident: tuple) -> Path | None:
+    """The file of the compute cache holding the runs of ``ident``, or ``None`` (unset)."""
+    folder = os.environ.get(CACHE_ENV, "").strip()
+    if not folder:
+        return None
+    # the repr of a scenario lists every field (floats exactly): it identifies the run
+    digest = hashlib.sha256(repr(ident).encode()).hexdigest()[:24]
+    return Path(folder) / "zheng2014-runs" / f"{digest}.pickle"
+
+
+@contextlib.contextmanager
+def _lock(path: Path):
+    """An exclusive ``flock`` on ``path`` (created, removed afterwards)."""
+    import fcntl
+
+    with path.open("a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.CensoringResult:
+    """The run of ``ident`` from the file ``path`` if it has a usable one, else ``run()`` (then
+    stored there if it is longer than what the file holds)."""
+    if path is None:
+        return run()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with _lock(path.with_suffix(".lock")):
+        old = None
+        if path.exists():
+            try:
+                with path.open("rb") as fh:
+                    old = pickle.load(fh)
+            except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
+                raise ComputeCacheError(
+                    f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); "
+                    f"delete it (or the folder {CACHE_ENV} names) and run again") from None
+            if _usable(old.mc.n_trials, n):
+                return old
+        res = run()
+        if old is None or res.mc.n_trials > old.mc.n_trials:
+            tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+            with tmp.open("wb") as fh:
+                pickle.dump(res, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            tmp.replace(path)  # atomic: a reader never sees half a file
+        return res
+
+
 def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
              seed: int, likelihood: str = "corrected", executor=None) -> cs.CensoringResult:
     """:func:`~fusioncenter.figures.zheng2014.common.run_scheme`, run once per process.
@@ -63,40 +133,39 @@ def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: 
     -------
     CensoringResult
         The same numbers as ``run_scheme(sc, scheme, ...)`` with these arguments, taken from a
-        run kept in this process when there is one (see the module docstring); its
-        ``feedback`` is the one asked for.
+        run kept in this process or stored in the compute cache when there is one (see the
+        module docstring); its ``feedback`` is the one asked for.
 
     Raises
     ------
     ValueError
         If ``sc`` is not a :class:`~fusioncenter.censoring.scenarios.LinearScenario` (and as
         :func:`fusioncenter.censoring.run` for bad arguments).
+    fusioncenter.figures.registry.ComputeCacheError
+        If the stored file of the run cannot be read back.
     """
     if not isinstance(sc, cs.LinearScenario):
         raise ValueError(f"sc must be a LinearScenario, got {type(sc).__name__}")
     ident = _identity(sc, scheme, feedback, l, likelihood, P, seed)
-    found = None
-    for key in _KEPT:
-        m = key[1]
-        if key[0] == ident and (m == n or (m > n and n % montecarlo.DEFAULT_BLOCK_SIZE == 0)):
-            found = key
-            break
+    found = next((key for key in _KEPT if key[0] == ident and _usable(key[1], n)), None)
     if found is None:
-        res = run_scheme(sc, scheme, feedback=feedback, l=l, n=n, P=P, seed=seed,
-                         likelihood=likelihood, executor=executor)
-        _KEPT[(ident, n)] = res
+        res = _stored_or_run(ident, _store(ident), n, lambda: run_scheme(
+            sc, scheme, feedback=feedback, l=l, n=n, P=P, seed=seed, likelihood=likelihood,
+            executor=executor))
+        found = (ident, res.mc.n_trials)
+        _KEPT[found] = res
         while len(_KEPT) > MAX_RUNS:
             _KEPT.popitem(last=False)
-    else:
-        _KEPT.move_to_end(found)
-        res = subset(_KEPT[found], n)
+    _KEPT.move_to_end(found)
+    res = subset(_KEPT[found], n)
     if res.feedback != feedback:
         res = dataclasses.replace(res, feedback=feedback)
     return res
 
 
 def forget_runs() -> None:
-    """Drop every kept run (the next requests compute again).
+    """Drop every run kept in this process (the next requests compute again, or read the
+    compute cache).
 
     Returns
     -------
