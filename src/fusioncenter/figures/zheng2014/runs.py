@@ -25,7 +25,6 @@ Unset (the tests, the command line), a fresh process keeps nothing and computes 
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import hashlib
 import os
@@ -36,7 +35,7 @@ from pathlib import Path
 
 from fusioncenter import censoring as cs
 from fusioncenter import montecarlo
-from fusioncenter.figures.registry import CACHE_ENV, ComputeCacheError
+from fusioncenter.figures.registry import CACHE_ENV, ComputeCacheError, locked
 from fusioncenter.figures.zheng2014.common import run_scheme, subset
 
 #: The most runs kept (the least recently used is dropped first). A paper-profile run of the
@@ -73,27 +72,13 @@ def _store(ident: tuple) -> Path | None:
     return Path(folder) / "zheng2014-runs" / f"{digest}.pickle"
 
 
-@contextlib.contextmanager
-def _lock(path: Path):
-    """An exclusive ``flock`` on ``path`` (created, removed afterwards)."""
-    import fcntl
-
-    with path.open("a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            path.unlink(missing_ok=True)
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
 def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.CensoringResult:
     """The run of ``ident`` from the file ``path`` if it has a usable one, else ``run()`` (then
     stored there if it is longer than what the file holds)."""
     if path is None:
         return run()
     path.parent.mkdir(parents=True, exist_ok=True)
-    with _lock(path.with_suffix(".lock")):
+    with locked(path.with_suffix(".lock")):
         old = None
         if path.exists():
             try:
