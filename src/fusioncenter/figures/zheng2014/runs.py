@@ -44,6 +44,7 @@ from fusioncenter.figures.zheng2014.common import run_scheme, subset
 MAX_RUNS = 64
 
 _KEPT: OrderedDict = OrderedDict()
+_GUARD = threading.Lock()  # threads of one process computing entries at once
 
 #: The schemes whose linear fusion centre does not use the feedback (their decisions are known
 #: in advance and their likelihood has no silent factor).
@@ -132,17 +133,20 @@ def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: 
     if not isinstance(sc, cs.LinearScenario):
         raise ValueError(f"sc must be a LinearScenario, got {type(sc).__name__}")
     ident = _identity(sc, scheme, feedback, l, likelihood, P, seed)
-    found = next((key for key in _KEPT if key[0] == ident and _usable(key[1], n)), None)
+    with _GUARD:
+        found = next((key for key in _KEPT if key[0] == ident and _usable(key[1], n)), None)
+        if found is not None:
+            _KEPT.move_to_end(found)
+            res = _KEPT[found]
     if found is None:
         res = _stored_or_run(ident, _store(ident), n, lambda: run_scheme(
             sc, scheme, feedback=feedback, l=l, n=n, P=P, seed=seed, likelihood=likelihood,
             executor=executor))
-        found = (ident, res.mc.n_trials)
-        _KEPT[found] = res
-        while len(_KEPT) > MAX_RUNS:
-            _KEPT.popitem(last=False)
-    _KEPT.move_to_end(found)
-    res = subset(_KEPT[found], n)
+        with _GUARD:
+            _KEPT[(ident, res.mc.n_trials)] = res
+            while len(_KEPT) > MAX_RUNS:
+                _KEPT.popitem(last=False)
+    res = subset(res, n)
     if res.feedback != feedback:
         res = dataclasses.replace(res, feedback=feedback)
     return res
@@ -156,4 +160,5 @@ def forget_runs() -> None:
     -------
     None
     """
-    _KEPT.clear()
+    with _GUARD:
+        _KEPT.clear()
