@@ -166,3 +166,82 @@ def test_table1_silent_run_checks_can_fail():
     d = data("zheng2014-table1")
     d["p_none"] = np.repeat(d["p_none_independent"][:, None], 2, axis=1) * 0.9
     assert any("independent-sensor" in n for n in failed("zheng2014-table1", d))
+
+
+# ------------------------------------------------------------------ runs kept for the process
+def test_kept_runs_are_the_runs_they_stand_for():
+    from fusioncenter import censoring as cs
+    from fusioncenter.figures.zheng2014 import common, runs
+
+    runs.forget_runs()
+    sc = cs.LinearScenario(N=2)
+    kw = dict(l=1.0, P=20, seed=5)
+    for scheme in ("all-send", "random"):  # their FC ignores the feedback: one run for both
+        a = runs.kept_run(sc, scheme, feedback="state", n=300, **kw)
+        b = runs.kept_run(sc, scheme, feedback="none", n=300, **kw)
+        assert b.mc is a.mc and b.feedback == "none" and a.feedback == "state"
+        fresh = common.run_scheme(sc, scheme, feedback="none", n=300, **kw)
+        assert np.array_equal(fresh.mc.samples, b.mc.samples)
+    # the first whole blocks of a longer run
+    long = runs.kept_run(sc, "cfwmd", feedback="state", n=600, **kw)
+    short = runs.kept_run(sc, "cfwmd", feedback="state", n=512, **kw)
+    assert short.mc.n_trials == 512 and np.shares_memory(short.mc.samples, long.mc.samples)
+    fresh = common.run_scheme(sc, "cfwmd", feedback="state", n=512, **kw)
+    assert np.array_equal(fresh.mc.samples, short.mc.samples)
+    # not a multiple of the block size, another feedback, another scenario: run again
+    assert runs.kept_run(sc, "cfwmd", feedback="state", n=300, **kw).mc.n_trials == 300
+    assert not np.shares_memory(
+        runs.kept_run(sc, "cfwmd", feedback="state+cov", n=512, **kw).mc.samples,
+        long.mc.samples)
+    other = runs.kept_run(cs.LinearScenario(N=2, r=2.0), "cfwmd", feedback="state", n=512, **kw)
+    assert not np.shares_memory(other.mc.samples, long.mc.samples)
+    with pytest.raises(ValueError, match="sc"):
+        runs.kept_run("linear", "cfwmd", feedback="state", n=512, **kw)
+    runs.forget_runs()
+
+
+def test_fig3_takes_fig1s_all_send_and_random_runs():
+    from fusioncenter.figures.zheng2014 import runs
+
+    runs.forget_runs()
+    linear._fig1_runs.cache_clear()
+    linear._fig3_runs.cache_clear()
+    seed, n, P = 3, 256, 20
+    f1 = linear._fig1_runs(seed, n, P, 2, 1.0)
+    f3 = linear._fig3_runs(seed, n, P, n)
+    assert f3[0].mc is f1[0].mc and f3[1].mc is f1[1].mc  # all-send, random
+    assert f3[0].feedback == "none" and f1[0].feedback == "state"
+    runs.forget_runs()
+    linear._fig1_runs.cache_clear()
+    linear._fig3_runs.cache_clear()
+
+
+def test_kept_runs_are_stored_in_the_compute_cache(tmp_path, monkeypatch):
+    from fusioncenter import censoring as cs
+    from fusioncenter.figures import registry
+    from fusioncenter.figures.zheng2014 import runs
+
+    runs.forget_runs()
+    monkeypatch.setenv(registry.CACHE_ENV, str(tmp_path))
+    sc, kw = cs.LinearScenario(N=2), dict(l=1.0, P=20, seed=9)
+    made = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    assert len(list((tmp_path / "zheng2014-runs").glob("*.pickle"))) == 1
+    runs.forget_runs()  # a fresh process: read back, not run again
+
+    def no_run(*args, **kwargs):
+        raise AssertionError("ran again")
+
+    monkeypatch.setattr(runs, "run_scheme", no_run)
+    again = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    assert np.array_equal(again.mc.samples, made.mc.samples)
+    runs.forget_runs()
+    first = runs.kept_run(sc, "cfomd", feedback="state", n=256, **kw)  # its first block
+    assert np.array_equal(first.mc.samples, made.mc.samples[:256])
+    with pytest.raises(AssertionError, match="ran again"):  # more trials: run
+        runs.kept_run(sc, "cfomd", feedback="state", n=768, **kw)
+    runs.forget_runs()
+    for f in (tmp_path / "zheng2014-runs").glob("*.pickle"):
+        f.write_bytes(b"broken")
+    with pytest.raises(registry.ComputeCacheError, match="unreadable"):
+        runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    runs.forget_runs()

@@ -325,7 +325,7 @@ class Entry:
         if path is None:
             return self._compute_in(ctx, compute, over)
         path.parent.mkdir(parents=True, exist_ok=True)
-        with _locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
+        with locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
             if path.exists():
                 try:
                     with path.open("rb") as fh:
@@ -408,11 +408,22 @@ class Entry:
 
 
 @contextlib.contextmanager
-def _locked(path: Path):
+def locked(path: Path):
     """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
     the same cache file take turns, so the second one reads what the first stored. (A process
     that opened the file just before its removal may compute it once more: harmless, the
-    bytes are the same.)"""
+    bytes are the same.)
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The lock file (its folder must exist).
+
+    Yields
+    ------
+    None
+        While the lock is held.
+    """
     import fcntl
 
     with path.open("a") as fh:

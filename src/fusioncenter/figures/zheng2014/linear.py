@@ -50,7 +50,6 @@ from fusioncenter.figures.zheng2014.common import (
     pick_pairs,
     printed_max_abs_diff,
     rmse_panels,
-    run_scheme,
     run_size,
     schemes_data,
     settable,
@@ -61,6 +60,7 @@ from fusioncenter.figures.zheng2014.common import (
     transmissions_plot,
     z_claim_ordered,
 )
+from fusioncenter.figures.zheng2014.runs import kept_run
 from fusioncenter.profile import by_profile
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -141,7 +141,7 @@ FIG1 = {"N": 2, "l": 1.0, "feedback": "state"}
 def _fig1_runs(seed: int, n: int, P: int, N: int, l: float) -> tuple:
     sc = cs.LinearScenario(N=N)
     ex = context.executor()
-    return tuple(run_scheme(sc, s, feedback="state", l=l, n=n, P=P, seed=seed, executor=ex)
+    return tuple(kept_run(sc, s, feedback="state", l=l, n=n, P=P, seed=seed, executor=ex)
                  for s in SCHEMES)
 
 
@@ -188,7 +188,7 @@ add_entry(
 @functools.lru_cache(maxsize=4)
 def _fig2_runs(seed: int, n: int, P: int, N: int) -> tuple:
     """(CFwMD runs, CFwMD2 runs) at every l: shared by Fig. 2 and Table I."""
-    return by_l_runs(run_scheme, cs.LinearScenario(N=N), L_FIG2, n=n, P=P, seed=seed,
+    return by_l_runs(kept_run, cs.LinearScenario(N=N), L_FIG2, n=n, P=P, seed=seed,
                      executor=context.executor())
 
 
@@ -379,13 +379,14 @@ def _fig3_runs(seed: int, n: int, P: int, nh: int) -> tuple:
     sc = cs.LinearScenario(N=FIG3["N"])
     l = FIG3["l"]
     ex = context.executor()
-    runs = [run_scheme(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, executor=ex)
+    # all-send and random selection: Fig. 1's runs when its sizes are these (kept_run)
+    runs = [kept_run(sc, s, feedback="none", l=l, n=n, P=P, seed=seed, executor=ex)
             for s in ("all-send", "random", "cfomd")]
-    runs.append(run_scheme(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
-                     likelihood="printed", executor=ex))
+    runs.append(kept_run(sc, "cfwmd", feedback="none", l=l, n=n, P=P, seed=seed,
+                         likelihood="printed", executor=ex))
     for lk in ("corrected", "exact"):
-        runs.append(run_scheme(sc, "cfwmd", feedback="none", l=l, n=nh, P=P, seed=seed,
-                         likelihood=lk, executor=ex))
+        runs.append(kept_run(sc, "cfwmd", feedback="none", l=l, n=nh, P=P, seed=seed,
+                             likelihood=lk, executor=ex))
     return tuple(runs)
 
 
