@@ -177,6 +177,67 @@ def test_truncated_draws_have_the_conditional_mean():
         assert np.all(np.abs(u.mean(axis=0) - mean) < 4 * se)
 
 
+def _rejection_reference(rng, b, a, rounds):
+    """The NumPy rejection rounds that ``_kernels.ellipse_reject`` replaced."""
+    inv_a2 = 1.0 / (a * a)
+    out = rng.standard_normal(b.shape)
+    out += b
+    todo = np.flatnonzero(((out * out) * inv_a2).sum(axis=1) >= 1.0)
+    for _ in range(rounds - 1):
+        if todo.size == 0:
+            break
+        u = rng.standard_normal((todo.size, b.shape[1]))
+        u += b[todo]
+        ok = ((u * u) * inv_a2).sum(axis=1) < 1.0
+        out[todo[ok]] = u[ok]
+        todo = todo[~ok]
+    return out, todo
+
+
+@pytest.mark.parametrize("m", [1, 2])
+def test_compiled_rejection_rounds_draw_as_the_numpy_rounds(m):
+    """The rejection rounds of the silent draws (compiled) take the same draws and keep the
+    same points as the NumPy rounds; with no rounds left over nothing else is drawn."""
+    for seed in range(6):
+        r = np.random.default_rng(seed)
+        a = 1.0 + r.random(m)
+        b = r.uniform(-0.7, 0.7, size=(int(r.integers(1, 3000)), m)) * a  # inside: accepted
+        g1, g2 = (np.random.Generator(np.random.SFC64(seed)) for _ in range(2))
+        ref, todo = _rejection_reference(g1, b, a, 40)
+        assert todo.size == 0  # 40 rounds accept every point here: the sequential part idles
+        got, left = cs.vector_fusion._sample_in_ellipse(g2, b, a, rounds=40)
+        assert left == 0 and np.array_equal(got, ref) and g1.random() == g2.random()
+
+
+def test_compiled_tables_evaluate_as_the_numpy_code():
+    """The fixed table and the per-trial tables (compiled evaluation) give the NumPy
+    evaluation's values bit for bit, the fixed table's fall-back beyond its extent included."""
+    from fusioncenter.censoring import ellipse
+    rng = np.random.default_rng(3)
+    tab = ellipse._fixed_table(1.3, 2.2)
+    x1, x2 = np.abs(rng.normal(size=(2, 40, 70)) * 5)
+    x1[0, 0] = 12.5
+    t1, t2 = x1 / tab.h, x2 / tab.h
+    far = np.maximum(t1, t2) >= tab.G - 1
+    t1, t2 = np.where(far, 0.0, t1), np.where(far, 0.0, t2)
+    i, j = t1.astype(np.intp), t2.astype(np.intp)
+    t1, t2 = t1 - i, t2 - j
+    c = tab.coef[:, i * (tab.G - 1) + j]
+    ref = None
+    for p in (3, 2, 1, 0):
+        r = ((c[4 * p + 3] * t2 + c[4 * p + 2]) * t2 + c[4 * p + 1]) * t2 + c[4 * p]
+        ref = r if ref is None else ref * t1 + r
+    ref[far] = cv.log_canon(x1[far], x2[far], 1.3, 2.2)
+    assert far.any() and np.array_equal(tab(x1, x2), ref)
+    k, G = 5, 24
+    f, f1, f2, f12 = rng.normal(size=(4, k, G, G))
+    o1, o2, h1, h2 = rng.normal(size=k), rng.normal(size=k), rng.random(k) + 0.1, rng.random(k)
+    per = ellipse._Hermite2D(f, f1, f2, f12, o1, o2, h1, h2 + 0.1)
+    y1 = o1[:, None] + (G - 1) * h1[:, None] * rng.uniform(-0.1, 1.1, (k, 300))
+    y2 = o2[:, None] + (G - 1) * (h2[:, None] + 0.1) * rng.uniform(-0.1, 1.1, (k, 300))
+    assert np.array_equal(per.rows(y1, y2), per(np.arange(k)[:, None], y1, y2)[0])
+
+
 @pytest.mark.parametrize("kwargs, word", [
     ({"mean": [1.0, 2.0], "cov": [[1.0, 2.0], [2.0, 1.0]], "eta": 1.0}, "cov"),
     ({"mean": [1.0, 2.0, 3.0], "cov": np.eye(3), "eta": 1.0}, "mean"),

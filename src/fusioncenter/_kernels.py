@@ -29,9 +29,10 @@ import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-__all__ = ["amplitudes", "hermite_rows", "linear_transition", "propagate_wna",
-           "received_terms", "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted",
-           "take_rows", "weighted_moments"]
+__all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
+           "linear_transition", "power_table", "propagate_wna", "received_terms",
+           "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
+           "weighted_moments"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -137,6 +138,124 @@ def take_rows(src, anc, dst):
             a = anc[b, k]
             for j in range(d):
                 dst[b, k, j] = src[b, a, j]
+
+
+@numba.njit(cache=True, nogil=True)
+def ellipse_reject(u, b, todo, inv_a2, out):
+    """One round of rejection sampling in the ellipse ``sum_j u_j^2 inv_a2[j] < 1``: for
+    ``t < todo.size`` the proposal for point ``i = todo[t]`` is ``u[t] + b[i]``; if inside it is
+    stored in ``out[i]``, otherwise ``i`` is kept. The kept points are packed at the front of
+    ``todo`` (in their order); returns how many. ``u (k, m)`` (standard normal draws; ``k >=
+    todo.size``), ``b, out (K, m)``, ``inv_a2 (m,)``; the arithmetic of
+    ``censoring.vector_fusion``'s NumPy rounds (the draw plus the mean, then ``u_1^2 inv_1``,
+    ``+ u_2^2 inv_2``, ...)."""
+    m = b.shape[1]
+    kept = 0
+    for t in range(todo.shape[0]):
+        i = todo[t]
+        q = 0.0
+        for j in range(m):
+            uj = u[t, j] + b[i, j]
+            u[t, j] = uj
+            if j == 0:
+                q = uj * uj * inv_a2[0]
+            else:
+                q += uj * uj * inv_a2[j]
+        if q < 1.0:
+            for j in range(m):
+                out[i, j] = u[t, j]
+        else:
+            todo[kept] = i
+            kept += 1
+    return kept
+
+
+@numba.njit(cache=True, nogil=True)
+def _basis(t):
+    """The cubic Hermite weights ``A0, D0, D1`` at ``t`` (``censoring.ellipse``'s arithmetic)."""
+    u = 1.0 - t
+    D0 = u * u
+    A0 = (2.0 * t + 1.0) * D0
+    D0 = D0 * t
+    D1 = t * t
+    D1 = D1 * -u
+    return A0, D0, D1
+
+
+@numba.njit(cache=True, nogil=True)
+def hermite_tables(f, f1, f2, f12, o1, o2, h1, h2, G1, G2, x1, x2, out):
+    """Bicubic Hermite interpolation, row ``r`` of the points ``x1, x2 (k, P)`` in table ``r``
+    of the flattened ``(k, G1, G2)`` tables ``f, f1, f2, f12`` (derivatives already times the
+    steps) on the grids ``o + i h`` (``(k,)`` each), into ``out (k, P)``; points outside their
+    grid are clamped to it. Operation for operation the NumPy evaluation of
+    ``censoring.ellipse``'s per-trial tables."""
+    k, P = x1.shape
+    for r in range(k):
+        inv1 = 1.0 / h1[r]
+        inv2 = 1.0 / h2[r]
+        for p in range(P):
+            t1 = (x1[r, p] - o1[r]) * inv1
+            t2 = (x2[r, p] - o2[r]) * inv2
+            t1 = min(max(t1, 0.0), G1 - 1.0)
+            t2 = min(max(t2, 0.0), G2 - 1.0)
+            i = min(np.intp(t1), G1 - 2)
+            j = min(np.intp(t2), G2 - 2)
+            t1 = t1 - i
+            t2 = t2 - j
+            ka = (i + r * G1) * G2 + j
+            A0, D0, D1 = _basis(t1)
+            B0, E0, E1 = _basis(t2)
+            kb = ka + G2
+            fb = f[kb]
+            rr = (f[ka] - fb) * A0 + fb + f1[ka] * D0 + f1[kb] * D1
+            gb = f2[kb]
+            q = (f2[ka] - gb) * A0 + gb + f12[ka] * D0 + f12[kb] * D1
+            v = rr * B0 + q * E0
+            ka += 1
+            kb += 1
+            fb = f[kb]
+            rr = (f[ka] - fb) * A0 + fb + f1[ka] * D0 + f1[kb] * D1
+            gb = f2[kb]
+            q = (f2[ka] - gb) * A0 + gb + f12[ka] * D0 + f12[kb] * D1
+            v = v + rr * (1.0 - B0)
+            out[r, p] = v + q * E1
+
+
+@numba.njit(cache=True, nogil=True)
+def power_table(coef, G, inv_h, x1, x2, out, far):
+    """The bicubic power-basis table of ``censoring.ellipse`` (``coef (16, (G-1)^2)``, grid
+    step ``1 / inv_h``) at the points ``x1, x2 >= 0`` (C-contiguous, one shape; flat loop) into
+    ``out``: a 2-D Horner scheme in the point's cell, ``far`` set (and ``out`` the value of
+    cell 0 at ``t = 0``) where ``max(x1, x2) inv_h >= G - 1``. Operation for operation the
+    NumPy evaluation."""
+    o = out.reshape(-1)
+    fr = far.reshape(-1)
+    y1 = x1.reshape(-1)
+    y2 = x2.reshape(-1)
+    top = G - 1.0
+    for n in range(y1.shape[0]):
+        t1 = y1[n] * inv_h
+        t2 = y2[n] * inv_h
+        f = max(t1, t2) >= top
+        fr[n] = f
+        if f:
+            t1 = 0.0
+            t2 = 0.0
+        i = np.intp(t1)
+        j = np.intp(t2)
+        t1 = t1 - i
+        t2 = t2 - j
+        c = i * (G - 1) + j
+        v = 0.0
+        for p in range(3, -1, -1):
+            r = coef[4 * p + 3, c] * t2
+            r = r + coef[4 * p + 2, c]
+            r = r * t2
+            r = r + coef[4 * p + 1, c]
+            r = r * t2
+            r = r + coef[4 * p, c]
+            v = r if p == 3 else v * t1 + r
+        o[n] = v
 
 
 @numba.njit(cache=True, nogil=True)

@@ -46,6 +46,7 @@ import math
 import numpy as np
 from scipy import special
 
+from fusioncenter import _kernels
 from fusioncenter._validate import finite as _finite
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring import scenarios
@@ -436,34 +437,14 @@ class _PowerTable:
         self.coef = np.ascontiguousarray(np.moveaxis(C, (2, 3), (0, 1)).reshape(16, (G - 1) ** 2))
 
     def __call__(self, x1, x2):
-        """``log P`` at ``(|b_1|, |b_2|) = (x1, x2)`` (non-negative arrays of one shape)."""
-        G = self.G
-        t1 = x1 * self.inv_h
-        t2 = x2 * self.inv_h
-        far = np.maximum(t1, t2) >= G - 1
-        if far.any():
-            t1 = np.where(far, 0.0, t1)
-            t2 = np.where(far, 0.0, t2)
-        i = t1.astype(np.intp)
-        j = t2.astype(np.intp)
-        t1 -= i
-        t2 -= j
-        i *= G - 1
-        i += j
-        c = np.take(self.coef, i, axis=1)  # (16, ...)
-        out = None
-        for p in (3, 2, 1, 0):
-            r = c[4 * p + 3] * t2
-            r += c[4 * p + 2]
-            r *= t2
-            r += c[4 * p + 1]
-            r *= t2
-            r += c[4 * p]
-            if out is None:
-                out = r
-            else:
-                out *= t1
-                out += r
+        """``log P`` at ``(|b_1|, |b_2|) = (x1, x2)`` (non-negative arrays of one shape):
+        :func:`fusioncenter._kernels.power_table` (the gather and the 2-D Horner scheme
+        compiled), then the quadrature beyond the table."""
+        x1 = np.ascontiguousarray(x1, dtype=float)
+        x2 = np.ascontiguousarray(x2, dtype=float)
+        out = np.empty(x1.shape)
+        far = np.empty(x1.shape, dtype=bool)
+        _kernels.power_table(self.coef, self.G, self.inv_h, x1, x2, out, far)
         if far.any():
             out[far] = log_canon(x1[far], x2[far], self.a1, self.a2)
         return out
@@ -499,6 +480,15 @@ class _Hermite2D:
         self.f1 = np.ascontiguousarray(f1 * self.h1[:, None, None]).ravel()
         self.f2 = np.ascontiguousarray(f2 * self.h2[:, None, None]).ravel()
         self.f12 = np.ascontiguousarray(f12 * (self.h1 * self.h2)[:, None, None]).ravel()
+
+    def rows(self, x1, x2):
+        """``__call__(arange(n_tab)[:, None], x1, x2)`` without ``outside``: row ``r`` of the
+        points ``(n_tab, P)`` in table ``r``, compiled
+        (:func:`fusioncenter._kernels.hermite_tables`, the same arithmetic)."""
+        out = np.empty(np.shape(x1))
+        _kernels.hermite_tables(self.f, self.f1, self.f2, self.f12, self.o1, self.o2, self.h1,
+                                self.h2, self.G1, self.G2, x1, x2, out)
+        return out
 
     def __call__(self, tab, x1, x2):
         t1 = (x1 - self.o1[tab]) * (1.0 / self.h1[tab])
@@ -628,8 +618,7 @@ def log_silent_per_trial(b, a):
         if not good.all():  # a node underflowed (not expected for |b| <= 30): exact instead
             far[ok[~good]] = True
         tab = _Hermite2D(f, f1, f2, f12, lo[ok, 0], lo[ok, 1], step[:, 0], step[:, 1])
-        val, _ = tab(np.arange(ok.size)[:, None], b1[ok], b2[ok])
-        out[ok] = val
+        out[ok] = tab.rows(b1[ok], b2[ok])
     bad = np.flatnonzero(far)
     if bad.size:
         aa = a[bad]

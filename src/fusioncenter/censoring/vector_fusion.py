@@ -133,24 +133,17 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
     """
     k, m = b.shape
     inv_a2 = 1.0 / (a * a)
-
-    def inside(u):
-        q = u[:, 0] * u[:, 0] * inv_a2[0]
-        for j in range(1, m):
-            q += u[:, j] * u[:, j] * inv_a2[j]
-        return q < 1.0
-
+    # the rounds of plain rejection, compiled (_kernels.ellipse_reject): the same draws, in the
+    # same order, as ``u = standard_normal((len(todo), m)) + b[todo]`` per round
     out = rng.standard_normal((k, m))
-    out += b
-    todo = np.flatnonzero(~inside(out))
+    todo = np.arange(k)
+    left = _kernels.ellipse_reject(out, b, todo, inv_a2, out)
     for _ in range(rounds - 1):
-        if todo.size == 0:
+        if left == 0:
             return out, 0
-        u = rng.standard_normal((todo.size, m))
-        u += b[todo]
-        ok = inside(u)
-        out[todo[ok]] = u[ok]
-        todo = todo[~ok]
+        left = _kernels.ellipse_reject(rng.standard_normal((left, m)), b, todo[:left], inv_a2,
+                                       out)
+    todo = todo[:left]
     if todo.size == 0:
         return out, 0
     if m == 1:

@@ -20,6 +20,7 @@ Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 
 import numpy as np
@@ -85,15 +86,39 @@ DATA_KEYS = {
 
 
 # ------------------------------------------------------------------------- running
-def _run(sc: cv.VectorScenario, scheme: str, *, likelihood: str = "exact", executor=None,
-         **kw) -> cs.CensoringResult:
-    """:func:`run_scheme` with the exact no-feedback filter, in chunks of 256 on an executor."""
-    return common.run_scheme(sc, scheme, likelihood=likelihood, executor=executor,
-                             chunk_size=None if executor is None else 256, **kw)
+#: Schemes whose run does not depend on ``feedback`` or ``likelihood``: their sensors' decisions
+#: and the FC's weights ignore the broadcast (only censoring reads it, and only CFwMD without
+#: feedback reads ``likelihood``).
+_BLIND = ("all-send", "random")
 
 
-# Where the trials run is the execution context's (fusioncenter.context.executor()); the data
-# do not depend on it.
+#: Runs kept by :func:`_run` (keyed on everything their data depend on), at most
+#: ``_RUNS_MAX`` of them (the oldest is dropped first).
+_RUNS: dict[tuple, cs.CensoringResult] = {}
+_RUNS_MAX = 32
+
+
+def _run(sc: cv.VectorScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
+         seed: int, likelihood: str = "exact", executor=None) -> cs.CensoringResult:
+    """:func:`run_scheme` with the exact no-feedback filter, in chunks of 256 on an executor,
+    memoised on the scenario, scheme, feedback, likelihood, ``l``, trials, particles and seed
+    (not on the executor: the data do not depend on it). A run of a scheme in ``_BLIND`` is
+    computed once for every ``feedback`` and ``likelihood`` (Figs. 4 and 6 share their
+    all-send and random-selection runs) and returned under the names asked for."""
+    blind = scheme in _BLIND
+    key = (sc, scheme, "none" if blind else feedback, "exact" if blind else likelihood,
+           float(l), n, P, seed)
+    res = _RUNS.get(key)
+    if res is None:
+        res = common.run_scheme(sc, scheme, feedback=key[2], l=l, n=n, P=P, seed=seed,
+                                likelihood=key[3], executor=executor,
+                                chunk_size=None if executor is None else 256)
+        while len(_RUNS) >= _RUNS_MAX:
+            del _RUNS[next(iter(_RUNS))]
+        _RUNS[key] = res
+    if blind:
+        res = dataclasses.replace(res, feedback=feedback, likelihood=likelihood)
+    return res
 
 
 def _params(sc: cv.VectorScenario, **extra) -> dict:
