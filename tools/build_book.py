@@ -8,7 +8,8 @@ Two stages:
 
 1. **execution**: every notebook chapter not yet in the execution cache (jupyter-cache, in
    ``<out>/_build/.jupyter_cache``, where jupyter-book looks) is executed, ``--jobs`` at a time
-   (default: one per core), each in its own process and kernel, longest first; the executed
+   (default: one per core), each in its own kernel, longest first (one worker process per
+   lane runs its chapters one after another: :func:`serve`); the executed
    notebooks are stored in the cache exactly as myst-nb stores them (same reader, same hash of
    the code cells), so that:
 2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
@@ -62,14 +63,26 @@ FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config
 STAMP = ".fusioncenter-fingerprint"
 STATUS = "execution-status.json"
 TIMEOUT = 1800  # as _config.yml execute.timeout
-#: Chapters started first, so that the lanes finish together: the longest (paper profile,
-#: issue 16) and those computing the entries that ``reading`` gathers (results, vector,
-#: nonlinear), then ``reading`` itself, which then mostly reads them from the compute cache
-#: (started first, it computed them all in one kernel: 1338 s on a loaded machine). The
-#: others follow in table-of-contents order.
-LONGEST = ("book/zheng2014/particle-filter", "book/zheng2014/nonlinear",
-           "book/zheng2014/likelihood", "book/zheng2014/results", "book/zheng2014/vector",
-           "book/zheng2014/reading")
+#: Chapters started first, longest first (seconds of a fresh paper build on an idle 2-core
+#: machine, issue 16), so that the lanes finish together; the others follow in table-of-contents
+#: order. ``reading`` gathers the entries of results, vector and nonlinear: it runs last
+#: (:data:`LAST`), when they are in the compute cache, instead of waiting on their locks.
+LONGEST = ("book/zheng2014/vector",             # 112 s
+           "book/zheng2014/results",            # 109 s
+           "book/zheng2014/nonlinear",          # 86 s
+           "book/zheng2014/likelihood",         # 43 s
+           "book/synthesis/one-problem",        # 40 s
+           "book/zheng2014/particle-filter",    # 38 s
+           "book/mo2015/event-kf",              # 35 s
+           "book/leong2011/fading",             # 30 s
+           "book/dey2009/vector",               # 24 s
+           "book/dey2009/multisensor",          # 21 s
+           "book/leong2011/allocation",         # 19 s
+           "book/zheng2014/censoring-kl")       # 17 s
+LAST = ("book/zheng2014/reading",)
+#: The prefix of the lines a ``--serve`` worker answers with (anything else on its standard
+#: output, e.g. printed by a kernel's C library, is passed over).
+RESULT = "@@build_book-result "
 
 _STAGE = ["preparing"]
 
@@ -121,9 +134,9 @@ def _read(path: Path):
     return myst_nb_reader_plugin(str(path))
 
 
-def execute_one(src: Path, dest: Path) -> int:
-    """Child process: execute ``src`` as myst-nb would (in its folder) into ``dest``; print a
-    JSON line ``{"seconds", "error", "traceback"}``."""
+def execute_one(src: Path, dest: Path) -> dict:
+    """Execute ``src`` as myst-nb would (in its folder, in a new kernel) into ``dest``; returns
+    ``{"seconds", "error", "traceback"}`` (``error`` the exception's name, or ``None``)."""
     import nbformat
     from jupyter_cache.executors.utils import single_nb_execution
 
@@ -131,9 +144,28 @@ def execute_one(src: Path, dest: Path) -> int:
     res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
                               meta_override=True)
     nbformat.write(nb, str(dest))
-    print(json.dumps({"seconds": res.time, "error": type(res.err).__name__ if res.err else None,
-                      "traceback": res.exc_string}))
-    return 1 if res.err else 0
+    return {"seconds": res.time, "error": type(res.err).__name__ if res.err else None,
+            "traceback": res.exc_string}
+
+
+def serve() -> int:
+    """Child process of one execution lane: for each line ``{"src", "dest"}`` read from standard
+    input, execute that chapter (:func:`execute_one`, a new kernel each time) and print one line
+    :data:`RESULT` + JSON. One such process runs a lane's chapters one after another, so that
+    myst-nb and jupyter-cache are imported once per lane (about 3 s each time), not per chapter."""
+    for line in sys.stdin:
+        if not line.strip():
+            continue
+        req = json.loads(line)
+        try:
+            info = execute_one(Path(req["src"]), Path(req["dest"]))
+        except Exception as exc:  # noqa: BLE001 (reported to the parent as the chapter's error)
+            import traceback
+
+            info = {"seconds": None, "error": type(exc).__name__,
+                    "traceback": traceback.format_exc()}
+        print(RESULT + json.dumps(info), flush=True)
+    return 0
 
 
 def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict], list[str]]:
@@ -160,7 +192,7 @@ def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict
         rows[doc] = {"doc": doc, "profile": profile, "seconds": rec.data.get("execution_seconds"),
                      "from_cache": True, "executed": rec.created.isoformat(timespec="seconds"),
                      "status": "ok"}
-    todo.sort(key=lambda d: (LONGEST.index(d) if d in LONGEST else len(LONGEST),
+    todo.sort(key=lambda d: (d in LAST, LONGEST.index(d) if d in LONGEST else len(LONGEST),
                              docs.index(d)))
     print(f"build_book: execution: {len(docs) - len(todo)} of {len(docs)} chapters cached, "
           f"executing {len(todo)} with {jobs} worker(s)", file=sys.stderr, flush=True)
@@ -168,44 +200,72 @@ def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict
     failed: list[str] = []
     reports = out / "_build" / "reports"
 
-    def work(doc: str) -> None:
-        src = source(doc)
+    queue = list(todo)  # taken from the front by the lanes, under ``lock``
+
+    def record(doc: str, src: Path, dest: Path, info: dict, rc: int | None, wall: float) -> None:
+        ok = rc is None and dest.exists() and not info.get("error")
+        row = {"doc": doc, "profile": profile,
+               "seconds": info.get("seconds") if info.get("seconds") is not None else wall,
+               "from_cache": False,
+               "executed": dt.datetime.now().isoformat(timespec="seconds"),
+               "status": "ok" if ok else f"failed ({info.get('error') or f'exit {rc}'})"}
+        with lock:
+            if ok:
+                nb = nbformat.read(str(dest), as_version=4)
+                cache.cache_notebook_bundle(
+                    CacheBundleIn(nb, str(src), data={"execution_seconds": row["seconds"]}),
+                    check_validity=False, overwrite=True)
+            else:
+                failed.append(doc)
+                reports.mkdir(parents=True, exist_ok=True)
+                rep = reports / (doc.replace("/", "__") + ".log")
+                rep.write_text(info.get("traceback") or f"exit code {rc}\n")
+                print(f"build_book: {doc} FAILED ({row['status']}); traceback: {rep}\n"
+                      + (info.get("traceback") or "")[-3000:], file=sys.stderr, flush=True)
+            rows[doc] = row
+            print(f"build_book:   {doc}: {row['status']} in {row['seconds']:.1f} s",
+                  file=sys.stderr, flush=True)
+
+    def lane(number: int) -> None:
+        """One lane: a ``--serve`` child executing the next chapter of the queue until it is
+        empty; a child that dies (the chapter's status says its exit code) is replaced."""
+        proc = None
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--serve"]
         with tempfile.TemporaryDirectory() as tmp:
-            dest = Path(tmp) / "executed.ipynb"
-            t0 = time.perf_counter()
-            cp = [sys.executable, str(Path(__file__).resolve()), "--execute-one", str(src),
-                  str(dest)]
-            log = Path(tmp) / "out.json"
-            with log.open("w") as fh:
-                rc = procs.run(f"execute {doc}", cp, cwd=ROOT, env=env, stdout=fh,
-                               stdin=subprocess.DEVNULL)
-            wall = time.perf_counter() - t0
-            lines = log.read_text().strip().splitlines()
-            info = json.loads(lines[-1]) if lines and lines[-1].startswith("{") else {}
-            ok = rc == 0 and dest.exists() and not info.get("error")
-            row = {"doc": doc, "profile": profile, "seconds": info.get("seconds", wall),
-                   "from_cache": False,
-                   "executed": dt.datetime.now().isoformat(timespec="seconds"),
-                   "status": "ok" if ok else f"failed ({info.get('error') or f'exit {rc}'})"}
-            with lock:
-                if ok:
-                    nb = nbformat.read(str(dest), as_version=4)
-                    cache.cache_notebook_bundle(
-                        CacheBundleIn(nb, str(src), data={"execution_seconds": row["seconds"]}),
-                        check_validity=False, overwrite=True)
-                else:
-                    failed.append(doc)
-                    reports.mkdir(parents=True, exist_ok=True)
-                    rep = reports / (doc.replace("/", "__") + ".log")
-                    rep.write_text(info.get("traceback") or f"exit code {rc}\n")
-                    print(f"build_book: {doc} FAILED ({row['status']}); traceback: {rep}\n"
-                          + (info.get("traceback") or "")[-3000:], file=sys.stderr, flush=True)
-                rows[doc] = row
-                print(f"build_book:   {doc}: {row['status']} in {row['seconds']:.1f} s",
-                      file=sys.stderr, flush=True)
+            while True:
+                with lock:
+                    if not queue:
+                        break
+                    doc = queue.pop(0)
+                src, dest = source(doc), Path(tmp) / (doc.replace("/", "__") + ".ipynb")
+                dest.unlink(missing_ok=True)
+                t0 = time.perf_counter()
+                if proc is None:
+                    proc = procs.start(f"execute lane {number}", cmd, cwd=ROOT, env=env,
+                                       stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+                    if proc is None:  # interrupted
+                        return
+                procs.rename(proc, f"execute {doc}")
+                info, rc = {}, None
+                try:
+                    proc.stdin.write(json.dumps({"src": str(src), "dest": str(dest)}) + "\n")
+                    proc.stdin.flush()
+                    for line in proc.stdout:
+                        if line.startswith(RESULT):
+                            info = json.loads(line[len(RESULT):])
+                            break
+                    else:
+                        raise EOFError
+                except (BrokenPipeError, EOFError):
+                    rc = procs.wait(proc)
+                    proc = None
+                record(doc, src, dest, info, rc, time.perf_counter() - t0)
+            if proc is not None:
+                proc.stdin.close()
+                procs.wait(proc)
 
     with ThreadPoolExecutor(max(1, jobs)) as pool:
-        list(pool.map(work, todo))
+        list(pool.map(lane, range(max(1, jobs))))
     return [rows[d] for d in docs if d in rows], failed
 
 
@@ -239,7 +299,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="nitpicky, warnings are errors (-n -W --keep-going)")
     ap.add_argument("--jobs", type=int, default=None,
                     help="chapters executed at once (default: the number of cores)")
-    ap.add_argument("--execute-one", nargs=2, metavar=("SRC", "DEST"), help=argparse.SUPPRESS)
+    ap.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--compute-cache", metavar="DIR", default=None,
                     help="share registry results through DIR instead of the build's own "
                          "folder (make test: one folder for the site build and nbval, emptied "
@@ -247,8 +307,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--edition", choices=["instructor", "student"], default="instructor",
                     help="student: leave the exercises' solutions out (FUSIONCENTER_EDITION)")
     args = ap.parse_args(argv)
-    if args.execute_one:
-        return execute_one(Path(args.execute_one[0]), Path(args.execute_one[1]))
+    if args.serve:
+        return serve()
     if args.profile is None:
         ap.error("--profile is required")
     jobs = args.jobs or len(os.sched_getaffinity(0))

@@ -74,21 +74,40 @@ def _alive(pid: int) -> bool:
         return False
 
 
-def run(name: str, cmd: list[str], **kw) -> int:
-    """Run ``cmd`` in its own session and wait; its return code (negative: killed by a signal).
-
-    Refuses to start (returns 130) once an interrupt has arrived.
-    """
+def start(name: str, cmd: list[str], **kw) -> subprocess.Popen | None:
+    """Start ``cmd`` in its own session, registered as a running stage (stopped with the others
+    on an interrupt); ``None`` once an interrupt has arrived. End it with :func:`wait`."""
     with _LOCK:
         if INTERRUPTED:
-            return 130
+            return None
         proc = subprocess.Popen(cmd, start_new_session=True, **kw)
         _RUNNING[proc.pid] = (name, proc)
+    return proc
+
+
+def rename(proc: subprocess.Popen, name: str) -> None:
+    """What an interrupt reports a running stage as (e.g. the chapter a worker executes now)."""
+    with _LOCK:
+        if proc.pid in _RUNNING:
+            _RUNNING[proc.pid] = (name, proc)
+
+
+def wait(proc: subprocess.Popen) -> int:
+    """Wait for a process :func:`start` started; its return code. It is no longer a stage."""
     try:
         return proc.wait()
     finally:
         with _LOCK:
             _RUNNING.pop(proc.pid, None)
+
+
+def run(name: str, cmd: list[str], **kw) -> int:
+    """Run ``cmd`` in its own session and wait; its return code (negative: killed by a signal).
+
+    Refuses to start (returns 130) once an interrupt has arrived.
+    """
+    proc = start(name, cmd, **kw)
+    return 130 if proc is None else wait(proc)
 
 
 def running() -> list[str]:

@@ -1,0 +1,58 @@
+"""tools/build_book.py's execution worker (``--serve``): one process executes several chapters
+one after another, each in a new kernel, and answers one result line per chapter."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+import build_book  # noqa: E402
+
+HEADER = """---
+jupytext:
+  text_representation:
+    extension: .md
+    format_name: myst
+kernelspec:
+  display_name: Python 3
+  language: python
+  name: python3
+---
+"""
+
+
+def _chapter(path: Path, code: str) -> Path:
+    path.write_text(HEADER + "\n# A chapter\n\n```{code-cell} ipython3\n" + code + "\n```\n")
+    return path
+
+
+def test_one_worker_executes_chapters_in_turn_in_new_kernels(tmp_path):
+    ok = _chapter(tmp_path / "ok.md", "import os\nx = 6 * 7\nprint('pid', os.getpid(), x)")
+    bad = _chapter(tmp_path / "bad.md", "raise ValueError('chapter fails')")
+    again = _chapter(tmp_path / "again.md", "import os\nprint('pid', os.getpid(), 'x' in dir())")
+    requests = "".join(json.dumps({"src": str(src), "dest": str(tmp_path / f"{src.stem}.ipynb")})
+                       + "\n" for src in (ok, bad, again))
+    out = subprocess.run([sys.executable, str(ROOT / "tools" / "build_book.py"), "--serve"],
+                         input=requests, capture_output=True, text=True, timeout=300,
+                         cwd=tmp_path)
+    assert out.returncode == 0, out.stderr[-2000:]
+    results = [json.loads(line[len(build_book.RESULT):]) for line in out.stdout.splitlines()
+               if line.startswith(build_book.RESULT)]
+    assert [r["error"] for r in results] == [None, "CellExecutionError", None]
+    assert "chapter fails" in results[1]["traceback"]
+    assert all(r["seconds"] > 0 for r in (results[0], results[2]))
+
+    def printed(name: str) -> str:
+        nb = json.loads((tmp_path / name).read_text())
+        texts = [o.get("text", "") for c in nb["cells"] if c["cell_type"] == "code"
+                 for o in c.get("outputs", [])]
+        return "".join("".join(t) if isinstance(t, list) else t for t in texts)
+
+    first, third = printed("ok.ipynb").split(), printed("again.ipynb").split()
+    assert first[2] == "42"
+    assert third[2] == "False"  # a new kernel: nothing of the first chapter is left
+    assert first[1] != third[1]  # ... in another process
