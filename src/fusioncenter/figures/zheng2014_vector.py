@@ -20,7 +20,6 @@ Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 
 import numpy as np
@@ -31,6 +30,7 @@ from fusioncenter import context, plotting
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.zheng2014 import common  # shared with the scalar entries (Z_* = 4)
+from fusioncenter.figures.zheng2014.runs import BLIND, kept_run
 
 #: Ids of the book's own figures registered here (not figures of the paper).
 OWN_IDS: tuple[str, ...] = ()
@@ -86,39 +86,16 @@ DATA_KEYS = {
 
 
 # ------------------------------------------------------------------------- running
-#: Schemes whose run does not depend on ``feedback`` or ``likelihood``: their sensors' decisions
-#: and the FC's weights ignore the broadcast (only censoring reads it, and only CFwMD without
-#: feedback reads ``likelihood``).
-_BLIND = ("all-send", "random")
-
-
-#: Runs kept by :func:`_run` (keyed on everything their data depend on), at most
-#: ``_RUNS_MAX`` of them (the oldest is dropped first).
-_RUNS: dict[tuple, cs.CensoringResult] = {}
-_RUNS_MAX = 32
+_BLIND = BLIND  # all-send and random selection: one run serves every feedback and likelihood
 
 
 def _run(sc: cv.VectorScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
          seed: int, likelihood: str = "exact", executor=None) -> cs.CensoringResult:
-    """:func:`run_scheme` with the exact no-feedback filter, in chunks of 256 on an executor,
-    memoised on the scenario, scheme, feedback, likelihood, ``l``, trials, particles and seed
-    (not on the executor: the data do not depend on it). A run of a scheme in ``_BLIND`` is
-    computed once for every ``feedback`` and ``likelihood`` (Figs. 4 and 6 share their
-    all-send and random-selection runs) and returned under the names asked for."""
-    blind = scheme in _BLIND
-    key = (sc, scheme, "none" if blind else feedback, "exact" if blind else likelihood,
-           float(l), n, P, seed)
-    res = _RUNS.get(key)
-    if res is None:
-        res = common.run_scheme(sc, scheme, feedback=key[2], l=l, n=n, P=P, seed=seed,
-                                likelihood=key[3], executor=executor,
-                                chunk_size=None if executor is None else 256)
-        while len(_RUNS) >= _RUNS_MAX:
-            del _RUNS[next(iter(_RUNS))]
-        _RUNS[key] = res
-    if blind:
-        res = dataclasses.replace(res, feedback=feedback, likelihood=likelihood)
-    return res
+    """:func:`~fusioncenter.figures.zheng2014.runs.kept_run` (one run per process for every
+    entry that needs it) with the exact no-feedback filter, in chunks of 256 on an executor."""
+    return kept_run(sc, scheme, feedback=feedback, l=l, n=n, P=P, seed=seed,
+                    likelihood=likelihood, executor=executor,
+                    chunk_size=None if executor is None else 256)
 
 
 def _params(sc: cv.VectorScenario, **extra) -> dict:

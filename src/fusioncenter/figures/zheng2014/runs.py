@@ -1,17 +1,18 @@
-"""The runs of the scalar zheng2014 entries, kept for the life of the process.
+"""The runs of the zheng2014 particle-filter entries, kept for the life of the process.
 
-Several entries of :mod:`fusioncenter.figures.zheng2014.linear` and
-:mod:`fusioncenter.figures.zheng2014.choices` need the same run: Fig. 3's all-send and random
-selection are Fig. 1's (the linear fusion centre's all-send and random selection do not use what
-is fed back), and the "as chosen" row of ``zheng2014-table1-choices`` is the first trials of
+Several entries need the same run: Fig. 3's all-send and random selection are Fig. 1's, Fig. 6's
+are Fig. 4's (all-send and random selection use neither what is fed back nor the likelihood:
+:data:`BLIND`), and the "as chosen" row of ``zheng2014-table1-choices`` is the first trials of
 Fig. 2's runs. :func:`kept_run` runs a scheme once per process and hands the run (or its first
-trials) to every entry that asks for it again.
+trials) to every entry of :mod:`fusioncenter.figures.zheng2014` and
+:mod:`fusioncenter.figures.zheng2014_vector` that asks for it again.
 
-A run is identified by everything that fixes its numbers: the scenario (all its fields), the
-scheme, what is fed back (where it matters), ``l``, the likelihood, the particles and the seed,
-and the trials. A request for ``n`` trials is met by a kept run of more trials when ``n`` is a
-multiple of the block size (:data:`fusioncenter.montecarlo.DEFAULT_BLOCK_SIZE`): its first ``n``
-trials are then those of a run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
+A run is identified by everything that fixes its numbers: the scenario (all its fields; scalar
+or vector observations), the scheme, what is fed back and the likelihood (where they matter),
+``l``, the particles and the seed, and the trials. A request for ``n`` trials is met by a kept
+run of more trials when ``n`` is a multiple of the block size
+(:data:`fusioncenter.montecarlo.DEFAULT_BLOCK_SIZE`): its first ``n`` trials are then those of a
+run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
 The executor and the chunking are not part of the identity: they do not change the numbers.
 
 If the environment variable :data:`fusioncenter.figures.registry.CACHE_ENV` names a folder (the
@@ -34,6 +35,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 from fusioncenter import censoring as cs
+from fusioncenter import censoring_vector as cv
 from fusioncenter import montecarlo
 from fusioncenter.figures.registry import CACHE_ENV, ComputeCacheError, locked
 from fusioncenter.figures.zheng2014.common import run_scheme, subset
@@ -46,15 +48,16 @@ MAX_RUNS = 64
 _KEPT: OrderedDict = OrderedDict()
 _GUARD = threading.Lock()  # threads of one process computing entries at once
 
-#: The schemes whose linear fusion centre does not use the feedback (their decisions are known
-#: in advance and their likelihood has no silent factor).
-_NO_FEEDBACK_USE = ("all-send", "random")
+#: The schemes whose run depends neither on the feedback nor on the likelihood: their decisions
+#: are known in advance and their weights have no silent factor (only the censoring schemes read
+#: the broadcast, and only CFwMD without feedback reads ``likelihood``).
+BLIND = ("all-send", "random")
 
 
-def _identity(sc: cs.LinearScenario, scheme: str, feedback: str, l: float, likelihood: str,
-              P: int, seed: int) -> tuple:
-    if scheme in _NO_FEEDBACK_USE:
-        feedback = "none"
+def _identity(sc, scheme: str, feedback: str, l: float, likelihood: str, P: int,
+              seed: int) -> tuple:
+    if scheme in BLIND:
+        feedback, likelihood = "none", "exact"
     return (sc, scheme, feedback, float(l), likelihood, int(P), int(seed))
 
 
@@ -100,16 +103,18 @@ def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.Censoring
         return res
 
 
-def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: int, P: int,
-             seed: int, likelihood: str = "corrected", executor=None) -> cs.CensoringResult:
+def kept_run(sc, scheme: str, *, feedback: str, l: float, n: int, P: int, seed: int,
+             likelihood: str = "corrected", executor=None,
+             chunk_size: int | None = None) -> cs.CensoringResult:
     """:func:`~fusioncenter.figures.zheng2014.common.run_scheme`, run once per process.
 
     Parameters
     ----------
-    sc : LinearScenario
-        The scenario (scalar observations).
-    scheme, feedback, l, likelihood, executor
-        As in :func:`fusioncenter.censoring.run`.
+    sc : LinearScenario or VectorScenario
+        The scenario (scalar or vector observations).
+    scheme, feedback, l, likelihood, executor, chunk_size
+        As in :func:`fusioncenter.censoring.run` (the executor and the chunks do not change
+        the numbers).
     n, P : int
         Trials and particles.
     seed : int
@@ -120,18 +125,20 @@ def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: 
     CensoringResult
         The same numbers as ``run_scheme(sc, scheme, ...)`` with these arguments, taken from a
         run kept in this process or stored in the compute cache when there is one (see the
-        module docstring); its ``feedback`` is the one asked for.
+        module docstring); its ``feedback`` and ``likelihood`` are the ones asked for.
 
     Raises
     ------
     ValueError
-        If ``sc`` is not a :class:`~fusioncenter.censoring.scenarios.LinearScenario` (and as
+        If ``sc`` is neither a :class:`~fusioncenter.censoring.scenarios.LinearScenario` nor a
+        :class:`~fusioncenter.censoring.vector.VectorScenario` (and as
         :func:`fusioncenter.censoring.run` for bad arguments).
     fusioncenter.figures.registry.ComputeCacheError
         If the stored file of the run cannot be read back.
     """
-    if not isinstance(sc, cs.LinearScenario):
-        raise ValueError(f"sc must be a LinearScenario, got {type(sc).__name__}")
+    if not isinstance(sc, cs.LinearScenario | cv.VectorScenario):
+        raise ValueError(f"sc must be a LinearScenario or a VectorScenario, got "
+                         f"{type(sc).__name__}")
     ident = _identity(sc, scheme, feedback, l, likelihood, P, seed)
     with _GUARD:
         found = next((key for key in _KEPT if key[0] == ident and _usable(key[1], n)), None)
@@ -141,14 +148,14 @@ def kept_run(sc: cs.LinearScenario, scheme: str, *, feedback: str, l: float, n: 
     if found is None:
         res = _stored_or_run(ident, _store(ident), n, lambda: run_scheme(
             sc, scheme, feedback=feedback, l=l, n=n, P=P, seed=seed, likelihood=likelihood,
-            executor=executor))
+            executor=executor, chunk_size=chunk_size))
         with _GUARD:
             _KEPT[(ident, res.mc.n_trials)] = res
             while len(_KEPT) > MAX_RUNS:
                 _KEPT.popitem(last=False)
     res = subset(res, n)
-    if res.feedback != feedback:
-        res = dataclasses.replace(res, feedback=feedback)
+    if (res.feedback, res.likelihood) != (feedback, likelihood):
+        res = dataclasses.replace(res, feedback=feedback, likelihood=likelihood)
     return res
 
 
