@@ -327,19 +327,9 @@ class Entry:
         path.parent.mkdir(parents=True, exist_ok=True)
         with locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
             if path.exists():
-                try:
-                    with path.open("rb") as fh:
-                        return pickle.load(fh)
-                except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
-                    raise ComputeCacheError(
-                        f"compute cache file {path} is unreadable ({type(exc).__name__}: "
-                        f"{exc}); delete it (or the folder {CACHE_ENV} names) and run again"
-                    ) from None
+                return read_cached(path)
             data = self._compute_in(ctx, compute, over)
-            tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-            with tmp.open("wb") as fh:
-                pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
-            tmp.replace(path)  # atomic: a reader never sees half a file
+            write_cached(path, data)
         return data
 
     def _compute_in(self, ctx, compute, over: dict) -> dict:
@@ -433,6 +423,50 @@ def locked(path: Path):
         finally:
             path.unlink(missing_ok=True)
             fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def read_cached(path: Path):
+    """The object a compute-cache file holds.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A file written by :func:`write_cached`.
+
+    Returns
+    -------
+    object
+        What was stored.
+
+    Raises
+    ------
+    ComputeCacheError
+        If the file cannot be unpickled (the message says to delete it).
+    """
+    try:
+        with path.open("rb") as fh:
+            return pickle.load(fh)
+    except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
+        raise ComputeCacheError(
+            f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); delete "
+            f"it (or the folder {CACHE_ENV} names) and run again") from None
+
+
+def write_cached(path: Path, data) -> None:
+    """Store ``data`` in a compute-cache file atomically (a temporary file renamed), so that a
+    reader never sees half a file.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (its folder must exist).
+    data : object
+        Anything picklable.
+    """
+    tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+    with tmp.open("wb") as fh:
+        pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
+    tmp.replace(path)
 
 
 REGISTRY: dict[str, Entry] = {}

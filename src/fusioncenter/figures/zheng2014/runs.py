@@ -29,7 +29,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import os
-import pickle
 import threading
 from collections import OrderedDict
 from pathlib import Path
@@ -37,7 +36,7 @@ from pathlib import Path
 from fusioncenter import censoring as cs
 from fusioncenter import censoring_vector as cv
 from fusioncenter import montecarlo
-from fusioncenter.figures.registry import CACHE_ENV, ComputeCacheError, locked
+from fusioncenter.figures.registry import CACHE_ENV, locked, read_cached, write_cached
 from fusioncenter.figures.zheng2014.common import run_scheme, subset
 
 #: The most runs kept (the least recently used is dropped first). A paper-profile run of the
@@ -83,23 +82,12 @@ def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.Censoring
         return run()
     path.parent.mkdir(parents=True, exist_ok=True)
     with locked(path.with_suffix(".lock")):
-        old = None
-        if path.exists():
-            try:
-                with path.open("rb") as fh:
-                    old = pickle.load(fh)
-            except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
-                raise ComputeCacheError(
-                    f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); "
-                    f"delete it (or the folder {CACHE_ENV} names) and run again") from None
-            if _usable(old.mc.n_trials, n):
-                return old
+        old = read_cached(path) if path.exists() else None
+        if old is not None and _usable(old.mc.n_trials, n):
+            return old
         res = run()
         if old is None or res.mc.n_trials > old.mc.n_trials:
-            tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-            with tmp.open("wb") as fh:
-                pickle.dump(res, fh, protocol=pickle.HIGHEST_PROTOCOL)
-            tmp.replace(path)  # atomic: a reader never sees half a file
+            write_cached(path, res)
         return res
 
 
@@ -110,15 +98,11 @@ def kept_run(sc, scheme: str, *, feedback: str, l: float, n: int, P: int, seed: 
 
     Parameters
     ----------
-    sc : LinearScenario or VectorScenario
-        The scenario (scalar or vector observations).
-    scheme, feedback, l, likelihood, executor, chunk_size
-        As in :func:`fusioncenter.censoring.run` (the executor and the chunks do not change
-        the numbers).
-    n, P : int
-        Trials and particles.
-    seed : int
-        The seed.
+    sc, scheme, feedback, l, n, P, seed, likelihood, executor, chunk_size
+        As in :func:`~fusioncenter.figures.zheng2014.common.run_scheme`; ``sc`` a
+        :class:`~fusioncenter.censoring.scenarios.LinearScenario` or a
+        :class:`~fusioncenter.censoring.vector.VectorScenario`. The executor and the chunks
+        do not change the numbers.
 
     Returns
     -------
