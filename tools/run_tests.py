@@ -174,6 +174,9 @@ def _on_interrupt(signum: int, stages: list[str]) -> None:
 def main() -> int:
     procs.install_handlers(_on_interrupt)
     REPORTS.mkdir(parents=True, exist_ok=True)
+    # matplotlib's font cache of this clone's venv, not the user's: a stale ~/.cache/matplotlib
+    # (left by a deleted venv) loses matplotlib's own fonts, and nbval fails on the warning
+    os.environ["MPLCONFIGDIR"] = str(REPORTS / "mplconfig")
     fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
     site = ROOT / "_build" / "fast" / "_build" / "html"

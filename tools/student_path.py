@@ -149,7 +149,8 @@ def main(argv: list[str] | None = None) -> int:
                                     "MPLBACKEND"))}
         env.update(PIP_NO_INDEX="1", PIP_FIND_LINKS=str(wheelhouse),
                    PIP_DISABLE_PIP_VERSION_CHECK="1", PATH=f"{venv / 'bin'}:{env['PATH']}",
-                   PYTHONHASHSEED="0")
+                   PYTHONHASHSEED="0", MPLCONFIGDIR=str(tmp / "mplconfig"))  # the temporary
+        # venv's font cache dies with it: never in a folder other runs read
         runner = tmp / "run_notebook.py"
         runner.write_text(RUNNER)
         for chapter, src in zip(args.chapters, notebooks, strict=True):

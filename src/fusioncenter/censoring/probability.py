@@ -374,7 +374,7 @@ RHO_DEGENERATE = 1e-6
 
 def _rectangle_owen(l1, u1, l2, u2, rho):
     """Inclusion-exclusion of four :func:`_cdf_owen` values (absolute accuracy ~1e-16): what
-    the filters' tables use (fast; :func:`log_region_probability`)."""
+    the fast path of :func:`log_bivariate_rectangle` and :func:`log_region_probability`."""
     F = _cdf_owen
     return F(u1, u2, rho) - F(l1, u2, rho) - F(u1, l2, rho) + F(l1, l2, rho)
 
@@ -543,8 +543,10 @@ def log_region_probability(c, cov, a, outside):
     Returns
     -------
     numpy.ndarray
-        ``log P(region)``, shape ``c.shape[:-1]`` (``-inf`` where the probability is 0 to
-        absolute accuracy ~1e-16).
+        ``log P(region)``, shape ``c.shape[:-1]``: the inclusion-exclusion of Owen's T values
+        where the probability is at least :data:`CAREFUL_BELOW`, else the log-sum of the
+        region's disjoint rectangles by :func:`log_bivariate_rectangle` (relative accuracy
+        ~1e-12 however small; ``|rho| > 1 - 1e-6`` keeps the inclusion-exclusion).
     """
     K = len(outside)
     sd = np.sqrt(np.diag(cov))
@@ -566,7 +568,29 @@ def log_region_probability(c, cov, a, outside):
     else:
         p = both_in
     with np.errstate(divide="ignore"):
-        return np.log(np.clip(p, 0.0, None))
+        out = np.array(np.log(np.clip(p, 0.0, None)))
+    # below CAREFUL_BELOW the differences above cancel (absolute accuracy ~1e-16 only): the
+    # region as a union of disjoint rectangles, each in the log domain (relative ~1e-12)
+    careful = (out < math.log(CAREFUL_BELOW)) & (abs(rho) < 1.0 - RHO_DEGENERATE)
+    if careful.any():
+        out[careful] = _log_region_rectangles(lo[careful], hi[careful], rho, outside)
+    return out[()] if out.ndim == 0 else out
+
+
+def _log_region_rectangles(lo, hi, rho, outside):
+    """``log P(region)`` of :func:`log_region_probability` as the log-sum of the disjoint
+    rectangles it is made of (standardised bounds ``lo, hi (n, 2)``), each by
+    :func:`log_bivariate_rectangle`."""
+    pieces = []
+    for i in range(2):
+        if outside[i]:
+            pieces.append([(np.full(len(lo), -np.inf), lo[:, i]),
+                           (hi[:, i], np.full(len(lo), np.inf))])
+        else:
+            pieces.append([(lo[:, i], hi[:, i])])
+    logs = [log_bivariate_rectangle(a0, b0, a1, b1, rho)
+            for a0, b0 in pieces[0] for a1, b1 in pieces[1]]
+    return np.logaddexp.reduce(np.stack(logs), axis=0)
 
 
 def log_silent_constant(Vcov, a) -> float:
