@@ -20,6 +20,10 @@ reported. For each page it checks:
 * at 1280 px, no element of the main text (tables, outputs, display math, paragraphs...) has
   content wider than its box, except code listings the page marks as scrollable
   (``fc-scroll-code``); counts per page and in total are printed (``check_layout``);
+* at 400 px (a phone), the same, except that content may also sit in a box that scrolls
+  sideways inside the column (a wide table of numbers, a long equation, a figure kept at its
+  legible width); each registry figure there keeps panels >= 500 px and fonts >= 11 px wide in
+  such a box;
 * no page (text, titles, link texts) and no title of the search index contains unrendered
   MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
   (``check_markup``).
@@ -191,7 +195,8 @@ def check_site(
     if not (html_dir / "index.html").is_file():
         return [f"{html_dir}: no index.html (build the site first)"]
     pages = list_pages(html_dir)
-    FIGURE_STATS.update(figures=0, pages=0, min_panel_px=None, min_font_px=None)
+    FIGURE_STATS.update(figures=0, pages=0, min_panel_px=None, min_font_px=None,
+                        narrow_panel_px=None, narrow_font_px=None, narrow_scrolling=0)
 
     try:
         from playwright.sync_api import Error as PlaywrightError
@@ -293,12 +298,13 @@ def check_site(
                 except PlaywrightError as exc:
                     res.problems.append(f"page {rel}: browser error: "
                                         f"{str(exc).strip().splitlines()[0]}")
-                if parser.refresh_target is None:
+                for viewport in (LAYOUT_VIEWPORTS if parser.refresh_target is None else ()):
                     try:
-                        layout = check_layout(page, rel)
+                        layout = check_layout(page, rel, viewport)
                     except PlaywrightError as exc:
-                        layout = LayoutResult(rel)
-                        res.problems.append(f"page {rel}: layout not measured: "
+                        layout = LayoutResult(rel, width=viewport["width"])
+                        res.problems.append(f"page {rel}: layout not measured at "
+                                            f"{viewport['width']} px: "
                                             f"{str(exc).strip().splitlines()[0]}")
                     layouts.append(layout)
                     res.problems += layout.problems()
@@ -308,8 +314,9 @@ def check_site(
                 say(res.line())
                 for prob in res.problems:
                     say(f"    {prob}")
-                if parser.refresh_target is None and layouts:
-                    say(layouts[-1].line())
+                if parser.refresh_target is None:
+                    for layout in layouts[-len(LAYOUT_VIEWPORTS):]:
+                        say(layout.line())
             context.close()
             browser.close()
     finally:
@@ -411,9 +418,11 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
 import urllib.request  # noqa: E402  (kept in this block)
 
 FIGURE_VIEWPORT = {"width": 1280, "height": 900}
+NARROW_VIEWPORT = {"width": 400, "height": 900}  # a phone
 MIN_PANEL_PX = 500
 MIN_FONT_PX = 11
-FIGURE_STATS: dict = {"figures": 0, "pages": 0, "min_panel_px": None, "min_font_px": None}
+FIGURE_STATS: dict = {"figures": 0, "pages": 0, "min_panel_px": None, "min_font_px": None,
+                      "narrow_panel_px": None, "narrow_font_px": None, "narrow_scrolling": 0}
 
 _FIGURES_JS = r"""
 async () => {
@@ -429,6 +438,11 @@ async () => {
       if (!img.complete) await new Promise(res => { img.onload = img.onerror = res; });
       r.displayed = img.getBoundingClientRect().width;
       r.natural = img.naturalWidth;
+      const box = img.closest('a') || img.parentElement;
+      const main = fig.closest('article') || document.body;
+      r.boxScrolls = /^(auto|scroll)$/.test(getComputedStyle(box).overflowX);
+      r.boxInside = box.getBoundingClientRect().right
+                    <= main.getBoundingClientRect().right + 1;
     }
     if (facts) {
       r.panels = +facts.dataset.panels; r.fraction = +facts.dataset.panelFraction;
@@ -456,6 +470,12 @@ async () => {
 # book/_ext/scroll_code.py) whose ``<pre>`` really scrolls (``overflow-x: auto|scroll``):
 # counted apart as scrollable code, never a problem.
 #
+# Every page is then laid out at 400 px (NARROW_VIEWPORT, a phone) and measured again. There,
+# content wider than its box may also sit in a box that scrolls sideways (``overflow-x:
+# auto|scroll``, the element itself or an ancestor in the column) and does not itself stick out
+# of the column: a table of numbers, a long display equation, a figure kept at its legible
+# width. Such elements are counted apart ("in a scrolling box"); anything else is clipped.
+#
 # Unrendered markup. The served HTML (text outside math, code and scripts; page titles; link
 # texts) and the search index (page and section titles of searchindex.js) must contain no
 # MyST or LaTeX source: no TeX control word (``\tilde``, ``\text{``), no role (``{cite}``,
@@ -463,6 +483,7 @@ async () => {
 # ============================================================================================
 
 VIEWPORT = {"width": 1280, "height": 900}
+LAYOUT_VIEWPORTS = (VIEWPORT, NARROW_VIEWPORT)
 SCROLL_CODE_CLASS = "fc-scroll-code"
 _OVERFLOW_SELECTOR = ", ".join([
     "table", "pre", "div.math", 'mjx-container[display="true"]', "p", "dt", "dd", "li",
@@ -472,7 +493,7 @@ _OVERFLOW_SELECTOR = ", ".join([
 
 # Runs in a loaded (and typeset) page; returns the clipped elements and the scrollable code.
 _OVERFLOW_JS = r"""
-async ([selector, scrollClass]) => {
+async ([selector, scrollClass, boxes]) => {
   document.querySelectorAll('details').forEach(d => { d.open = true; });
   document.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
   await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
@@ -481,7 +502,13 @@ async ([selector, scrollClass]) => {
   const col = main.getBoundingClientRect();
   const flagged = [];
   const clipped = [];
-  let scrollable = 0, measured = 0;
+  let scrollable = 0, measured = 0, inBox = 0;
+  const scrollBox = el => {  // the nearest box (el or an ancestor in the column) that scrolls
+    for (let e = el; e && e !== main.parentElement; e = e.parentElement) {
+      if (/^(auto|scroll)$/.test(getComputedStyle(e).overflowX)) return e;
+    }
+    return null;
+  };
   for (const el of main.querySelectorAll(selector)) {
     const cs = getComputedStyle(el);
     if (cs.display === 'none' || cs.display === 'inline' || cs.visibility === 'hidden') continue;
@@ -500,28 +527,48 @@ async ([selector, scrollClass]) => {
       continue;
     }
     flagged.push(el);
+    const box = boxes ? scrollBox(el) : null;
+    if (box) {
+      const b = box.getBoundingClientRect();
+      if (b.right - col.right <= 1 && col.left - b.left <= 1) { inBox += 1; continue; }
+    }
     const cls = (el.getAttribute('class') || '').split(/\s+/).slice(0, 3).join('.');
     clipped.push({what: el.tagName.toLowerCase() + (cls ? '.' + cls : ''),
                   excess: Math.round(Math.max(inner, outer)), width: Math.round(r.width),
                   text: (el.textContent || '').replace(/\s+/g, ' ').trim().slice(0, 70)});
   }
-  return {clipped, scrollable, measured, column: Math.round(col.width)};
+  return {clipped, scrollable, inBox, measured, column: Math.round(col.width)};
 }
 """
+
+
+def _sizes(f: dict) -> tuple[float, float]:
+    """A figure's narrowest panel and smallest font as displayed (CSS px)."""
+    return (f["displayed"] * f["fraction"],
+            f["fontPt"] * f["dpi"] / 72 * f["displayed"] / f["natural"])
+
+
+def _at(page, viewport: dict, js):
+    """Evaluate ``js`` (a script, or a function of no argument) with the window at
+    ``viewport``, then put the window back."""
+    before = page.viewport_size
+    if before != viewport:
+        page.set_viewport_size(viewport)
+    try:
+        return js() if callable(js) else page.evaluate(js)
+    finally:
+        if before is not None and before != viewport:
+            page.set_viewport_size(before)
 
 
 def check_registry_figures(page, res) -> None:
     """Each registry figure at a 1280 px window: numbered, alt text, linked to its full
     resolution, its data downloadable, every panel >= MIN_PANEL_PX wide and its smallest font
-    >= MIN_FONT_PX as displayed (font pt x dpi/72 x displayed/natural width)."""
-    before = page.viewport_size
-    if before != FIGURE_VIEWPORT:
-        page.set_viewport_size(FIGURE_VIEWPORT)
-    try:
-        found = page.evaluate(_FIGURES_JS)
-    finally:
-        if before is not None and before != FIGURE_VIEWPORT:
-            page.set_viewport_size(before)
+    >= MIN_FONT_PX as displayed (font pt x dpi/72 x displayed/natural width). At a 400 px
+    window (NARROW_VIEWPORT) the same sizes, the image wider than the column then scrolling
+    sideways in its own box inside the column."""
+    found = _at(page, FIGURE_VIEWPORT, _FIGURES_JS)
+    narrow = {f["id"]: f for f in _at(page, NARROW_VIEWPORT, _FIGURES_JS)} if found else {}
     if found:
         FIGURE_STATS["pages"] += 1
     for f in found:
@@ -547,17 +594,29 @@ def check_registry_figures(page, res) -> None:
             res.problems.append(f"{where}: data downloads missing or broken: {f['links']}")
         if not f.get("natural"):
             continue
-        panel = f["displayed"] * f["fraction"]
-        font = f["fontPt"] * f["dpi"] / 72 * f["displayed"] / f["natural"]
-        for key, v in (("min_panel_px", panel), ("min_font_px", font)):
-            old = FIGURE_STATS[key]
-            FIGURE_STATS[key] = v if old is None else min(old, v)
-        if panel < MIN_PANEL_PX:
-            res.problems.append(f"{where}: a panel is {panel:.0f} px wide at 1280 px "
-                                f"(< {MIN_PANEL_PX})")
-        if font < MIN_FONT_PX:
-            res.problems.append(f"{where}: smallest font {font:.1f} px as displayed "
-                                f"(< {MIN_FONT_PX})")
+        n = narrow.get(f["id"])
+        if not n or not n.get("natural"):
+            res.problems.append(f"{where}: not measured at {NARROW_VIEWPORT['width']} px")
+            continue
+        for (panel, font), at, keys in (
+                (_sizes(f), FIGURE_VIEWPORT["width"], ("min_panel_px", "min_font_px")),
+                (_sizes(n), NARROW_VIEWPORT["width"], ("narrow_panel_px", "narrow_font_px"))):
+            for key, v in zip(keys, (panel, font), strict=True):
+                old = FIGURE_STATS[key]
+                FIGURE_STATS[key] = v if old is None else min(old, v)
+            if panel < MIN_PANEL_PX:
+                res.problems.append(f"{where}: a panel is {panel:.0f} px wide at {at} px "
+                                    f"(< {MIN_PANEL_PX})")
+            if font < MIN_FONT_PX:
+                res.problems.append(f"{where}: smallest font {font:.1f} px as displayed at "
+                                    f"{at} px (< {MIN_FONT_PX})")
+        if n["displayed"] > NARROW_VIEWPORT["width"] - 20:  # wider than a phone's column
+            if n["boxScrolls"] and n["boxInside"]:
+                FIGURE_STATS["narrow_scrolling"] += 1
+            else:
+                res.problems.append(f"{where}: at {NARROW_VIEWPORT['width']} px the image "
+                                    f"({n['displayed']:.0f} px) is not in a box that scrolls "
+                                    "inside the column")
 
 
 def registry_figure_summary() -> str:
@@ -566,7 +625,10 @@ def registry_figure_summary() -> str:
         return "registry figures: none found"
     return (f"registry figures: {s['figures']} on {s['pages']} pages; narrowest panel "
             f"{s['min_panel_px']:.0f} px (>= {MIN_PANEL_PX}), smallest font "
-            f"{s['min_font_px']:.1f} px (>= {MIN_FONT_PX}) at 1280 px")
+            f"{s['min_font_px']:.1f} px (>= {MIN_FONT_PX}) at 1280 px; at "
+            f"{NARROW_VIEWPORT['width']} px {s['narrow_panel_px']:.0f} px and "
+            f"{s['narrow_font_px']:.1f} px, {s['narrow_scrolling']} in a box that scrolls "
+            "sideways")
 # ------------------------------------------------------------ end of registry figures block
 
 
@@ -579,30 +641,42 @@ class LayoutResult:
     scrollable_code: int = 0
     measured: int = 0
     column: int = 0
+    width: int = VIEWPORT["width"]
+    in_box: int = 0
 
     def line(self) -> str:
-        return (f"    layout {self.path}: {len(self.clipped)} clipped, "
-                f"{self.scrollable_code} scrollable code, {self.measured} elements measured "
-                f"in a {self.column} px column")
+        boxed = f", {self.in_box} in a scrolling box" if self.width != VIEWPORT["width"] else ""
+        return (f"    layout {self.path} at {self.width} px: {len(self.clipped)} clipped, "
+                f"{self.scrollable_code} scrollable code{boxed}, {self.measured} elements "
+                f"measured in a {self.column} px column")
 
     def problems(self) -> list[str]:
-        return [f"page {self.path}: content wider than its box at {VIEWPORT['width']} px: "
+        return [f"page {self.path}: content wider than its box at {self.width} px: "
                 f"{c['what']} ({c['width']} px, {c['excess']} px too wide): {c['text']!r}"
                 for c in self.clipped]
 
 
-def check_layout(page, path: str) -> LayoutResult:
-    """Measure the clipped elements of the page that is loaded (and typeset) in ``page``."""
-    info = page.evaluate(_OVERFLOW_JS, [_OVERFLOW_SELECTOR, SCROLL_CODE_CLASS])
+def check_layout(page, path: str, viewport: dict = VIEWPORT) -> LayoutResult:
+    """Measure the clipped elements of the page that is loaded (and typeset) in ``page``, with
+    the window at ``viewport``; below 1280 px a box that scrolls sideways holds its content."""
+    boxes = viewport["width"] != VIEWPORT["width"]
+    info = _at(page, viewport, lambda: page.evaluate(
+        _OVERFLOW_JS, [_OVERFLOW_SELECTOR, SCROLL_CODE_CLASS, boxes]))
     return LayoutResult(path, info["clipped"], info["scrollable"], info["measured"],
-                        info["column"])
+                        info["column"], viewport["width"], info["inBox"])
 
 
 def layout_summary(results: list[LayoutResult]) -> str:
-    pages = sum(1 for r in results if r.clipped)
-    return (f"layout: {sum(len(r.clipped) for r in results)} clipped elements on {pages} of "
-            f"{len(results)} pages at {VIEWPORT['width']} px, "
-            f"{sum(r.scrollable_code for r in results)} scrollable code listings")
+    lines = []
+    for width in sorted({r.width for r in results}, reverse=True):
+        rs = [r for r in results if r.width == width]
+        pages = sum(1 for r in rs if r.clipped)
+        boxed = (f", {sum(r.in_box for r in rs)} elements in a scrolling box"
+                 if width != VIEWPORT["width"] else "")
+        lines.append(f"layout: {sum(len(r.clipped) for r in rs)} clipped elements on {pages} "
+                     f"of {len(rs)} pages at {width} px, "
+                     f"{sum(r.scrollable_code for r in rs)} scrollable code listings{boxed}")
+    return "\n".join(lines)
 
 
 # Markup that must never reach the reader.

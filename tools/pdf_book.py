@@ -59,6 +59,7 @@ td, th { word-break: normal !important; overflow-wrap: break-word !important;
   hyphens: auto; }
 img { max-width: 100% !important; height: auto !important; page-break-inside: avoid;
       break-inside: avoid; }
+figure.fc-registry-figure img { min-width: 0 !important; }  /* a phone's rule, not paper's */
 h1, h2, h3 { break-after: avoid; }
 details > *:not(summary) { display: block !important; opacity: 1 !important; }
 details.hide > summary { display: none !important; }

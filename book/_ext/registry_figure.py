@@ -19,12 +19,16 @@ page):
   serialisers (``python -m fusioncenter compute ID --json`` / ``--csv``);
 - the evidence as a collapsible table;
 - the figure's panel count, width fraction and smallest font in ``data-`` attributes, which
-  ``tools/browser_check.py`` turns into displayed sizes.
+  ``tools/browser_check.py`` turns into displayed sizes;
+- a smallest displayed width (:func:`legible_width`): on a narrow screen (a phone) the image
+  keeps the width at which every panel is ``LEGIBLE_PANEL_PX`` wide and its smallest font
+  ``LEGIBLE_FONT_PX`` high, and scrolls sideways in its own box; the caption wraps below it.
 """
 
 from __future__ import annotations
 
 import html
+import math
 import re
 from pathlib import Path
 
@@ -39,6 +43,19 @@ LOGGER = logging.getLogger(__name__)
 DATA_DIR = "_figure-data"
 STATIC = Path(__file__).with_name("registry_figure_static")
 _ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}
+#: The sizes a reader needs (issue 13), as displayed: a panel's width and the smallest font.
+LEGIBLE_PANEL_PX = 500
+LEGIBLE_FONT_PX = 11
+
+
+def legible_width(meta: dict) -> int:
+    """The smallest displayed width (CSS px) of the image at which each panel is at least
+    ``LEGIBLE_PANEL_PX`` wide and its smallest font ``LEGIBLE_FONT_PX`` high: a font of
+    ``min_font_pt`` points is ``min_font_pt * dpi / 72`` pixels in the ``width_px`` wide PNG."""
+    panel = LEGIBLE_PANEL_PX / float(meta["panel_fraction"])
+    font = LEGIBLE_FONT_PX * float(meta["width_px"]) * 72 / (float(meta["min_font_pt"])
+                                                             * float(meta["dpi"]))
+    return math.ceil(max(panel, font))
 
 
 def paper_figure(entry_id: str) -> str | None:
@@ -126,7 +143,10 @@ class RegistryFigure(DirectiveBase):
                                       "dpi", "width_px", "height_px")}
         attrs = " ".join(f'data-{k.replace("_", "-")}="{html.escape(str(v))}"'
                          for k, v in facts.items())
-        links = (f'<p class="fc-figure-data"><span class="fc-facts" data-id="{entry_id}" '
+        # the image never narrower than legible: on a phone it scrolls in its link's box
+        links = (f'<style>figure#{entry_id} img {{ min-width: {legible_width(meta)}px; }}'
+                 '</style>'
+                 f'<p class="fc-figure-data"><span class="fc-facts" data-id="{entry_id}" '
                  f'{attrs} hidden></span>Data of this figure: '
                  f'<a href="{stem}.json" download>JSON</a> · '
                  f'<a href="{stem}.csv" download>CSV</a> '

@@ -283,7 +283,7 @@ common.register_figure(
     id="background-kf-montecarlo",
     paper="book",
     caption="What the Riccati recursion predicts: the Monte Carlo mean squared error of the "
-    "Kalman filter matches the diagonal of P_{k|k} at every step.",
+    "Kalman filter matches the diagonal of Pₖ|ₖ at every step.",
     chapter=CHAPTER,
     label="sec-background-kf-montecarlo",
     parameters={"model": VECTOR, "trials": MC_TRIALS},

@@ -213,7 +213,7 @@ def checks_rate(data: dict) -> list[Claim]:
 register_figure(
     id="mo2015-rate",
     paper="mo2015",
-    caption="Communication rate P(gamma_i = 1) against the trigger parameter delta for the three "
+    caption="Communication rate P(γᵢ = 1) against the trigger parameter δ for the three "
     "sensors of the static example: the notes' closed form (prior mean 0), our extension to a "
     "non-zero prior mean, and Monte Carlo estimates with 1.96 standard errors.",
     chapter=CHAPTER_RATE,

@@ -653,7 +653,7 @@ def _entry(entry_id: str, kind: str, status: str, functions: tuple, parameters: 
 _entry(
     "zheng2014-fig7", "figure", "reproduced", (compute_fig7, plot_fig7, checks_fig7),
     {"trajectories": TRAJECTORIES},
-    "Nonlinear tracking: the 3 x 3 sensor grid in the 20 m x 20 m region and a sample "
+    "Nonlinear tracking: the 3 × 3 sensor grid in the 20 m × 20 m region and a sample "
     "target trajectory (with the mean path).",
     "The sensor positions are our choice (the paper draws them but does "
     "not list them); the statements checked are where the target goes (it leaves the region "

@@ -263,7 +263,7 @@ common.add_entry(
     parameters=_params(_sc4, l=list(L_FIG5), feedback=["state", "state+cov"],
                        trials=dict(TRIALS_FIG5), particles=dict(PARTICLES_FIG5)),
     settable=common.settable(TRIALS_FIG5, PARTICLES_FIG5),
-    caption="Vector observations, N = 4 sensors, l in {1, 2, 3}: position RMSE of CFwMD "
+    caption="Vector observations, N = 4 sensors, l ∈ {1, 2, 3}: position RMSE of CFwMD "
     "(predicted state fed back) and CFwMD2 (predicted state and covariance fed back).",
     note="CFwMD2 beats CFwMD at l = 2 and 3, as in the paper, but at l = 1 CFwMD is better -- "
     "the reversal the paper reports for scalar observations (Fig. 2) and says it did not "

@@ -193,9 +193,9 @@ def checks_distribution(data: dict) -> list[Claim]:
 register_figure(
     id="dey2009-distribution",
     paper="dey2009",
-    caption="Beyond the mean: the distribution of p_k over time (quantile bands) and at steady "
+    caption="Beyond the mean: the distribution of pₖ over time (quantile bands) and at steady "
     "state (density of log p and upper tail) for Rayleigh and Nakagami(1/2) fading, Fig. 1's "
-    "channel with sigma_v = 1.",
+    "channel with σᵥ = 1.",
     chapter=CH_DIST,
     label="sec-dey2009-distribution",
     parameters={**SCALAR, "sigma_v": DIST["sigma_v"], "E[p_0]": P0, "p0_alt": DIST["p0_alt"],

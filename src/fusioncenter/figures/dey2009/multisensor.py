@@ -153,17 +153,17 @@ _MULTI_PARAMS = {
 
 #: The captions and notes of Figs. 3 and 4: one template, the scheme filled in.
 _MULTI_TEXT = (
-    "Two sensors, {channel}: E[p_k] by Monte Carlo against {s} and the AM-HM bound t_k{eq} for "
-    "three (lambda_1, lambda_2); last panel: which bound is tighter over a grid of alternatives.",
+    "Two sensors, {channel}: E[pₖ] by Monte Carlo against {s} and the AM-HM bound tₖ{eq} for "
+    "three (λ₁, λ₂); last panel: which bound is tighter over a grid of alternatives.",
     "Both bounds dominate E[p_k] and converge; {which}, as the paper says. lambda_1, lambda_2 "
     "are our choice (not stated) and the conclusions hold on a 4 x 4 grid of alternatives.",
 )
 for _fig, _compute, _text in (
         ("3", compute_fig3, {"channel": "multi-access (coherent sum) channel", "eq": "",
-                             "s": "the worst-sensor bound s_k",
+                             "s": "the worst-sensor bound sₖ",
                              "which": "sometimes s, sometimes t is tighter"}),
         ("4", compute_fig4, {"channel": "orthogonal channels", "eq": " (26)",
-                             "s": "s_k (minimum over which sensor is integrated last)",
+                             "s": "sₖ (minimum over which sensor is integrated last)",
                              "which": "each is tighter in some setting"})):
     register_figure(id=f"dey2009-fig{_fig}", paper="dey2009",
                     caption=_MULTI_TEXT[0].format(**_text), chapter=CH_MULTI,

@@ -160,7 +160,7 @@ register_figure(
     id="dey2009-ordering",
     paper="dey2009",
     caption="Ordering (22) matters on the multi-access channel: with the best sensor integrated "
-    "last, the 'bound' falls below E[p_k] (adding the noisier sensor to a coherent sum hurts), "
+    "last, the 'bound' falls below E[pₖ] (adding the noisier sensor to a coherent sum hurts), "
     "while the same sequence is a valid bound for orthogonal channels.",
     chapter=CH_MULTI,
     label="sec-dey2009-ordering",

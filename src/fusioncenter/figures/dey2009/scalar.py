@@ -213,9 +213,9 @@ _SCALAR_PARAMS = {
 register_figure(
     id="dey2009-fig1",
     paper="dey2009",
-    caption="Rayleigh fading, one sensor: the Monte Carlo average error covariance E[p_k] "
-    "(50 000 paths of length 100) against the tight bound s_k (17) and the loose bound q_k (18), "
-    "for several sigma_v; below: the same ordering on a grid of alternative parameters.",
+    caption="Rayleigh fading, one sensor: the Monte Carlo average error covariance E[pₖ] "
+    "(the paper: 50 000 paths of length 100) against the tight bound sₖ (17) and the loose bound "
+    "qₖ (18), for several σᵥ; below: the same ordering on a grid of alternative parameters.",
     chapter=CH_SCALAR,
     label="sec-dey2009-fig1",
     parameters=_SCALAR_PARAMS,
@@ -229,7 +229,7 @@ register_figure(
 register_figure(
     id="dey2009-fig2",
     paper="dey2009",
-    caption="Nakagami(1/2) fading, one sensor: E[p_k] by Monte Carlo against the bounds (19) "
+    caption="Nakagami(1/2) fading, one sensor: E[pₖ] by Monte Carlo against the bounds (19) "
     "and (20), with Fig. 1's Rayleigh averages for comparison; below: alternative parameters.",
     chapter=CH_SCALAR,
     label="sec-dey2009-fig2",

@@ -158,8 +158,8 @@ def checks_vector(data: dict) -> list[Claim]:
 register_figure(
     id="dey2009-vector",
     paper="dey2009",
-    caption="Vector state, scalar measurement (Section 3.2): the entries of E[P_k] by Monte "
-    "Carlo against the bounding sequence Zbar_k for a 2-state example; below: the PSD order at "
+    caption="Vector state, scalar measurement (Section 3.2): the entries of E[Pₖ] by Monte "
+    "Carlo against the bounding sequence Z̄ₖ for a 2-state example; below: the PSD order at "
     "steady state, direction by direction.",
     chapter=CH_VECTOR,
     label="sec-dey2009-vector",

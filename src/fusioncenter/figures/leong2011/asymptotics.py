@@ -194,8 +194,8 @@ def checks_fig2(data: dict) -> list[Claim]:
 
 register_figure(
     id="leong2011-fig1", paper="leong2011",
-    caption="Multi-access, symmetric sensors, alpha_i = 1/sqrt(M): (a) the steady-state error "
-    "P_inf against M and the asymptotic expression sigma_w2 + K/M of (13); (b) P_inf - sigma_w2 "
+    caption="Multi-access, symmetric sensors, αᵢ = 1/√M: (a) the steady-state error "
+    "P∞ against M and the asymptotic expression σ_w² + K/M of (13); (b) P∞ − σ_w² "
     "against K/M (log-log).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig1", parameters=FIG1,
     functions=(compute_fig1, plot_fig1, checks_fig1), settable=SETTABLE_FIG1,
@@ -205,8 +205,8 @@ register_figure(
 
 register_figure(
     id="leong2011-fig2", paper="leong2011",
-    caption="Multi-access with general sensor parameters (c_i, sigma_i^2, h_i in [0.5, 1]), "
-    "alpha_i = 1/sqrt(M): P_inf against M between the asymptotic lower and upper bounds (37) "
+    caption="Multi-access with general sensor parameters (cᵢ, σᵢ², hᵢ in [0.5, 1]), "
+    "αᵢ = 1/√M: P∞ against M between the asymptotic lower and upper bounds (37) "
     "of Lemma 4 (and the exact bounds at the extreme SNRs).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig2", parameters=FIG2,
     functions=(compute_fig2, plot_fig2, checks_fig2), settable=SETTABLE_FIG2,

@@ -266,7 +266,7 @@ def checks_fading(data: dict) -> list[Claim]:
 register_panels(
     ("5", "6"), "{access}, Rician fading: full CSI (greedy allocation at every step) vs no "
     "CSI (linear MMSE estimator), {what}, against the number of sensors M.",
-    "error variance under the sum-power budget gamma_total = 1e-3",
+    "error variance under the sum-power budget γ_total = 10⁻³",
     (compute_fading, plot_fading, checks_fading), chapter=CH_FADING, parameters=FADING,
     settable=SETTABLE_FADING,
     note="Paper's parameters, 1000 steps x 100 realizations (paper profile). Our choices: M = 2, "

@@ -236,7 +236,7 @@ def checks_static(data: dict) -> list[Claim]:
 register_panels(
     ("3", "4"), "{access}, static channels: optimal vs equal power allocation, {what}, "
     "against the number of sensors M (average over random sensor parameters).",
-    "steady-state error under the sum-power budget gamma_total = 1e-3",
+    "steady-state error under the sum-power budget γ_total = 10⁻³",
     (compute_static, plot_static, checks_static), chapter=CH_ALLOCATION, parameters=STATIC,
     settable=SETTABLE_STATIC,
     note="Paper's parameters and 1000 realizations per point (paper profile). Our choices: M = "

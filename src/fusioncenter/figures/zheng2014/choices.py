@@ -135,7 +135,7 @@ add_entry(
     caption="Table I (average transmissions per step of CFwMD and CFwMD2, N = 4) under the "
     "choices the paper leaves open: r for sensors 3-4, what the FC feeds back (moments of the "
     "weighted posterior propagated analytically, or of the propagated particle cloud), and "
-    "x_0 known or not.",
+    "x₀ known or not.",
     note="The book's own sensitivity check (512 trials in the paper profile, 256 x 150 "
     "particles in the fast one). The conclusions (CFwMD2 meets the target l more closely and "
     "has the lower RMSE for 1 < l < 3; CFwMD sends fewer than l) do not depend on the choices. "

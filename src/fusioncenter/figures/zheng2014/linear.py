@@ -347,7 +347,7 @@ add_entry(
     "zheng2014-fig2", "figure", "reproduced", (compute_fig2, plot_fig2, checks_fig2),
     chapter=CHAPTER, parameters=_fig2_parameters(),
     settable=settable(TRIALS_FIG2, PARTICLES_FIG2, N=FIG2["N"]),
-    caption="N = 4 sensors, l in {1, 1.2, 1.5, 2, 3}: position RMSE of CFwMD (predicted state "
+    caption="N = 4 sensors, l ∈ {1, 1.2, 1.5, 2, 3}: position RMSE of CFwMD (predicted state "
     "fed back) and CFwMD2 (predicted state and covariance fed back).",
     note="As in the paper: CFwMD is better at l = 1, CFwMD2 better for 1 < l < 3, and the "
     "covariance feedback helps little at l = 3. r = 1 for every sensor (the paper states it "
