@@ -486,7 +486,7 @@ VIEWPORT = {"width": 1280, "height": 900}
 LAYOUT_VIEWPORTS = (VIEWPORT, NARROW_VIEWPORT)
 SCROLL_CODE_CLASS = "fc-scroll-code"
 _OVERFLOW_SELECTOR = ", ".join([
-    "table", "pre", "div.math", 'mjx-container[display="true"]', "p", "dt", "dd", "li",
+    "table", "pre", "div.math", "mjx-container", "p", "dt", "dd", "li",
     "div.cell_output", "div.output", "blockquote", "h1", "h2", "h3", "h4", "h5", "h6",
     "figure", "img", "div.admonition", "div.highlight", "div.proof", "div.exercise",
 ])
@@ -516,9 +516,19 @@ async ([selector, scrollClass, boxes]) => {
     if (r.width === 0 && r.height === 0) continue;
     measured += 1;
     if (flagged.some(f => f.contains(el))) continue;
-    const inner = el.scrollWidth - el.clientWidth;
+    // inline math: its glyphs overhang its own box by a few px (scripts, accents); only a
+    // formula that sticks out of the column is clipped
+    const inlineMath = el.tagName === 'MJX-CONTAINER' && el.getAttribute('display') !== 'true';
+    const inner = inlineMath ? 0 : el.scrollWidth - el.clientWidth;
     const outer = Math.max(r.right - col.right, col.left - r.left);
-    if (inner <= 1 && outer <= 1) continue;
+    // at 1280 px no inline formula may need the phone's scrolling box (book/_static/wide-math.js)
+    const wide = !boxes && inlineMath && el.classList.contains('fc-wide-math');
+    if (boxes && inlineMath && el.classList.contains('fc-wide-math')) {
+      inBox += 1;  // at 400 px: fits the column, its content scrolls in its own box
+      flagged.push(el);
+      continue;
+    }
+    if (inner <= 1 && outer <= 1 && !wide) continue;
     const code = el.closest('.' + scrollClass);
     const pre = code && (el.tagName === 'PRE' ? el : el.querySelector('pre'));
     if (code && pre && /^(auto|scroll)$/.test(getComputedStyle(pre).overflowX)) {
