@@ -279,6 +279,26 @@ def write_status(out: Path, profile: str, rows: list[dict], times: dict) -> Path
 
 
 # ------------------------------------------------------------------------------ main
+def bytecode_env(env: dict, out: Path) -> None:
+    """Let the build's processes keep the bytecode of what they import.
+
+    Every chapter runs in a new kernel, and the heavy ones start two worker processes: some
+    60 processes import NumPy, SciPy, SymPy, Matplotlib, IPython and the library. The
+    environment installs no bytecode (uv does not compile by default), so with
+    ``PYTHONDONTWRITEBYTECODE`` set (as in many container images) each of them compiled those
+    sources again: about 4.5 s of CPU per kernel (6.5 s against 2.0 s for the imports of a
+    chapter). The children therefore write bytecode, into ``PYTHONPYCACHEPREFIX`` (unless set
+    already): the environment's ``pycache`` folder (``out/_build/pycache`` outside a virtual
+    environment), never next to the sources. Python checks each file against its source's
+    modification time and size, so nothing stale is ever run.
+    """
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    if not env.get("PYTHONPYCACHEPREFIX", "").strip():
+        venv = sys.prefix != sys.base_prefix
+        env["PYTHONPYCACHEPREFIX"] = str(Path(sys.prefix) / "pycache" if venv
+                                         else out / "_build" / "pycache")
+
+
 def _on_interrupt(out: Path):
     def handler(signum: int, stages: list[str]) -> None:
         (out / "_build" / STAMP).unlink(missing_ok=True)
@@ -326,6 +346,7 @@ def main(argv: list[str] | None = None) -> int:
                FUSIONCENTER_COMPUTE_CACHE=str(Path(args.compute_cache).resolve()
                                               if args.compute_cache else
                                               out / "_build" / "compute-cache"))
+    bytecode_env(env, out)
     times: dict = {"jobs": jobs}
 
     _STAGE[0] = "execution"
