@@ -47,6 +47,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
+from build_book import bytecode_env  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -177,6 +178,10 @@ def main() -> int:
     # matplotlib's font cache of this clone's venv, not the user's: a stale ~/.cache/matplotlib
     # (left by a deleted venv) loses matplotlib's own fonts, and nbval fails on the warning
     os.environ["MPLCONFIGDIR"] = str(REPORTS / "mplconfig")
+    # every stage's processes (pytest, kernels, pool workers, the other Pythons' venvs) keep
+    # the bytecode they compile, in the environment's pycache: with PYTHONDONTWRITEBYTECODE
+    # set, as on this machine, each of them compiled NumPy, SciPy, SymPy... again
+    bytecode_env(os.environ, ROOT)
     fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
     site = ROOT / "_build" / "fast" / "_build" / "html"

@@ -82,7 +82,8 @@ def main(argv: list[str] | None = None) -> int:
                             "hypothesis", "pyyaml"], check=True)
             t1 = time.perf_counter()
             env = {**os.environ, "FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0",
-                   "MPLCONFIGDIR": str(Path(tmp) / "mplconfig")}  # this venv's font cache only
+                   "MPLCONFIGDIR": str(Path(tmp) / "mplconfig"),  # this venv's font cache only
+                   "PYTHONPYCACHEPREFIX": str(Path(tmp) / "pycache")}  # and bytecode
             env.pop("PYTHONPATH", None)
             rc = subprocess.call([vpy, "-m", "pytest", "-p", "no:cacheprovider", "-q",
                                   "-m", "not site and not slow", str(tests)], cwd=tmp, env=env)
