@@ -56,3 +56,36 @@ def test_one_worker_executes_chapters_in_turn_in_new_kernels(tmp_path):
     assert first[2] == "42"
     assert third[2] == "False"  # a new kernel: nothing of the first chapter is left
     assert first[1] != third[1]  # ... in another process
+
+
+def test_a_kernel_that_died_at_start_is_retried_and_a_chapter_error_is_not(tmp_path, monkeypatch):
+    """A kernel that never answered (a lost race for a port) is started again; an error of the
+    chapter itself, or a kernel that died after running cells, is reported, never retried."""
+    import nbformat
+    from jupyter_cache.executors import utils
+
+    src = _chapter(tmp_path / "c.md", "x = 1")
+    calls: list[int] = []
+
+    def fake(nb, *, fail, ran=False, **_):
+        calls.append(1)
+        if ran:
+            next(c for c in nb.cells if c.cell_type == "code")["execution_count"] = 1
+        err = fail(len(calls))
+        return utils.ExecutionResult(nb, str(tmp_path), 0.1, err, err and repr(err))
+
+    died = RuntimeError("Kernel died before replying to kernel_info")
+    cases = [  # (what the n-th execution raises, has a cell run, executions expected)
+        (lambda n: died if n == 1 else None, False, 2),
+        (lambda n: died, False, 1 + build_book.KERNEL_START_RETRIES),
+        (lambda n: died, True, 1),
+        (lambda n: ValueError("chapter fails"), False, 1),
+    ]
+    for fail, ran, expected in cases:
+        calls.clear()
+        monkeypatch.setattr(utils, "single_nb_execution",
+                            lambda nb, fail=fail, ran=ran, **kw: fake(nb, fail=fail, ran=ran))
+        info = build_book.execute_one(src, tmp_path / "c.ipynb")
+        assert len(calls) == expected
+        assert nbformat.read(tmp_path / "c.ipynb", as_version=4).cells
+        assert (info["error"] is None) == (fail(expected) is None)

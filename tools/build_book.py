@@ -135,15 +135,32 @@ def _read(path: Path):
     return myst_nb_reader_plugin(str(path))
 
 
+#: A kernel that dies before answering its first request ran none of the chapter: most often
+#: it lost a race for a TCP port with another kernel started at the same moment ("Address
+#: already in use": two lanes, nbval and the tests all start kernels). Such a start is retried.
+KERNEL_START_RETRIES = 2
+
+
+def _kernel_never_started(res, nb) -> bool:
+    """Did the execution fail before the kernel ran any cell (a failed kernel start)?"""
+    return (isinstance(res.err, RuntimeError) and "Kernel died before replying" in str(res.err)
+            and not any(c.get("execution_count") for c in nb.cells if c.cell_type == "code"))
+
+
 def execute_one(src: Path, dest: Path) -> dict:
     """Execute ``src`` as myst-nb would (in its folder, in a new kernel) into ``dest``; returns
     ``{"seconds", "error", "traceback"}`` (``error`` the exception's name, or ``None``)."""
     import nbformat
     from jupyter_cache.executors.utils import single_nb_execution
 
-    nb = _read(src)
-    res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
-                              meta_override=True)
+    for attempt in range(1 + KERNEL_START_RETRIES):
+        nb = _read(src)
+        res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
+                                  meta_override=True)
+        if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
+            break
+        print(f"build_book: {src.name}: the kernel died before it answered ({res.err}); "
+              "starting a new one", file=sys.stderr, flush=True)
     nbformat.write(nb, str(dest))
     return {"seconds": res.time, "error": type(res.err).__name__ if res.err else None,
             "traceback": res.exc_string}
