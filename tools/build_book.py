@@ -12,8 +12,7 @@ Two stages:
    lane runs its chapters one after another: :func:`serve`); the executed
    notebooks are stored in the cache exactly as myst-nb stores them (same reader, same hash of
    the code cells), so that:
-2. **rendering**: ``jupyter-book build`` (Sphinx on ``--jobs`` processes: :func:`render`) finds
-   every chapter cached and only renders.
+2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
 
 Registry results are shared between the chapters (and their parallel kernels) through
 ``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``): a folder of the build,
@@ -330,29 +329,7 @@ def _on_interrupt(out: Path):
     return handler
 
 
-def render(jobs: int, args: list[str]) -> int:
-    """``jupyter-book <args>`` with Sphinx on ``jobs`` processes (its command line has no such
-    option; its ``build_sphinx`` takes ``jobs`` and defaults to 1). Sphinx reads and writes
-    the pages in parallel when every extension declares it safe (see
-    ``book/_ext/parallel_build.py``), else it warns and does that stage on one core."""
-    import functools
-
-    import jupyter_book.sphinx
-    from jupyter_book.cli.main import main as jupyter_book_main
-
-    jupyter_book.sphinx.build_sphinx = functools.partial(jupyter_book.sphinx.build_sphinx,
-                                                         jobs=jobs)
-    try:
-        jupyter_book_main.main(args=args, prog_name="jupyter-book")
-    except SystemExit as exc:
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-    return 0
-
-
 def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else argv
-    if argv[:1] == ["--render"]:  # the rendering stage's child: --render JOBS ARGS...
-        return render(int(argv[1]), argv[2:])
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--profile", choices=sorted(OUTPUTS))
     ap.add_argument("--strict", action="store_true",
@@ -400,8 +377,8 @@ def main(argv: list[str] | None = None) -> int:
         return 1
 
     _STAGE[0] = "rendering"
-    cmd = [sys.executable, str(Path(__file__).resolve()), "--render", str(jobs), "build",
-           str(ROOT), "--path-output", str(out), "--builder", "html"]
+    jb = Path(sys.executable).with_name("jupyter-book")
+    cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html"]
     if args.strict:
         cmd += ["-n", "-W", "--keep-going"]
     print("build_book:", " ".join(cmd), file=sys.stderr, flush=True)
