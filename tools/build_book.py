@@ -17,8 +17,11 @@ Two stages:
 Registry results are shared between the chapters (and their parallel kernels) through
 ``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``): a folder of the build,
 wiped with it, or the one ``--compute-cache`` names (whoever passes it keeps it current).
-The executor of the heavy entries is ``FUSIONCENTER_EXECUTOR`` if set, else the library's
-default.
+The executor of the heavy entries is ``FUSIONCENTER_EXECUTOR`` if set; else, with two or more
+lanes, ``serial``: the lanes already keep every core busy, and a pool of worker processes per
+chapter only adds their start (about 3 s of CPU each) and more processes than cores (a fresh
+paper build on 2 cores: 7:32 with the paper profile's ``processes`` default, 6:48 with
+``serial``, bootstrap included); with one lane, the library's default.
 
 jupyter-cache keys a notebook's cached outputs on its cell sources only, so a change to the
 library (``src/``), to the pinned environment (``requirements/lock.txt``), to the configuration,
@@ -364,6 +367,8 @@ def main(argv: list[str] | None = None) -> int:
                                               if args.compute_cache else
                                               out / "_build" / "compute-cache"))
     bytecode_env(env, out)
+    if jobs > 1 and not env.get("FUSIONCENTER_EXECUTOR", "").strip():
+        env["FUSIONCENTER_EXECUTOR"] = "serial"  # the lanes use the cores (module docstring)
     times: dict = {"jobs": jobs}
 
     _STAGE[0] = "execution"
