@@ -22,7 +22,7 @@ reported. For each page it checks:
   (``fc-scroll-code``); counts per page and in total are printed (``check_layout``);
 * at 400 px (a phone), the same, except that content may also sit in a box that scrolls
   sideways inside the column (a wide table of numbers, a long equation, a figure kept at its
-  legible width); each registry figure there keeps panels >= 500 px and fonts >= 11 px wide in
+  legible width); each registry figure there keeps panels >= 500 px wide and fonts >= 11 px in
   such a box;
 * no page (text, titles, link texts) and no title of the search index contains unrendered
   MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
@@ -521,10 +521,11 @@ async ([selector, scrollClass, boxes]) => {
     const inlineMath = el.tagName === 'MJX-CONTAINER' && el.getAttribute('display') !== 'true';
     const inner = inlineMath ? 0 : el.scrollWidth - el.clientWidth;
     const outer = Math.max(r.right - col.right, col.left - r.left);
-    // at 1280 px no inline formula may need the phone's scrolling box (book/_static/wide-math.js)
-    const wide = !boxes && inlineMath && el.classList.contains('fc-wide-math');
-    if (boxes && inlineMath && el.classList.contains('fc-wide-math')) {
-      inBox += 1;  // at 400 px: fits the column, its content scrolls in its own box
+    // a formula wider than its line scrolls in its own box (book/_static/wide-math.js): fine
+    // at 400 px, clipped at 1280 px (no formula may need it there)
+    const wide = inlineMath && el.classList.contains('fc-wide-math');
+    if (wide && boxes) {
+      inBox += 1;
       flagged.push(el);
       continue;
     }
