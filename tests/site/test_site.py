@@ -207,10 +207,20 @@ def _load_browser_check():
     return module
 
 
-def test_browser_check(site: Path) -> None:
+def test_browser_check(site: Path, capsys) -> None:
     browser_check = _load_browser_check()
+    lines: list[str] = []
+
+    def log(line: str) -> None:
+        print(line)
+        lines.append(line)
+
     problems = browser_check.check_site(site, min_pages=8, min_math_pages=3, min_images=2,
-                                        log=print)
+                                        log=log)
+    with capsys.disabled():  # the totals are printed whether the check passes or not
+        totals = [y for x in lines if not x.startswith(("PASS ", "FAIL ", " "))
+                  for y in x.splitlines()]
+        print("\n" + "\n".join(f"browser check totals: {x}" for x in totals))
     if problems:
         pytest.fail("browser check found problems:\n" + "\n".join(problems))
 
