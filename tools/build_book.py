@@ -188,9 +188,46 @@ def serve() -> int:
     return 0
 
 
-def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict], list[str]]:
-    """Execute the chapters missing from the cache, ``jobs`` at a time. Returns the status
-    rows (one per notebook chapter) and the failed chapters."""
+def adopt(cache, doc: str, src: Path, nb, executed: Path, profile: str) -> dict | None:
+    """Store the chapter's execution by nbval (``make test``: ``tests/golden/conftest.py``
+    writes ``executed/<golden name>.ipynb`` for each reference notebook whose cells all passed)
+    in the execution cache, if its code cells are the chapter's, cell for cell; the chapter's
+    own notebook ``nb`` (as myst-nb reads it: its markdown, tags and cache key) gets their
+    outputs. Returns the status row, or ``None`` (no such execution, or other code: the
+    chapter is then executed here)."""
+    import nbformat
+    from chapters import golden_path
+    from jupyter_cache.base import CacheBundleIn
+
+    path = executed / golden_path(doc).name
+    if not path.is_file():
+        return None
+    ran = nbformat.read(str(path), as_version=4)
+    meta = ran.metadata.get("fusioncenter_nbval") or {}
+    mine = [c for c in nb.cells if c.cell_type == "code"]
+    theirs = [c for c in ran.cells if c.cell_type == "code"]
+    if meta.get("profile") != profile or [c.source for c in mine] != \
+            [c.source for c in theirs]:
+        print(f"build_book: {doc}: nbval's execution does not match the chapter; executing it",
+              file=sys.stderr, flush=True)
+        return None
+    for cell, done in zip(mine, theirs, strict=True):
+        cell.outputs = done.outputs
+        cell.execution_count = done.execution_count
+    cache.cache_notebook_bundle(
+        CacheBundleIn(nb, str(src), data={"execution_seconds": meta.get("seconds"),
+                                          "executed_by": "nbval"}),
+        check_validity=False, overwrite=True)
+    return {"doc": doc, "profile": profile, "seconds": meta.get("seconds"), "from_cache": False,
+            "by": "nbval", "executed": meta.get("executed") or
+            dt.datetime.now().isoformat(timespec="seconds"), "status": "ok"}
+
+
+def preexecute(out: Path, profile: str, env: dict, jobs: int,
+               executed: Path | None = None) -> tuple[list[dict], list[str]]:
+    """Execute the chapters missing from the cache, ``jobs`` at a time (with ``executed``,
+    first adopt nbval's executions from that folder: :func:`adopt`). Returns the status rows
+    (one per notebook chapter) and the failed chapters."""
     import nbformat
     from jupyter_cache import get_cache
     from jupyter_cache.base import CacheBundleIn
@@ -204,18 +241,25 @@ def preexecute(out: Path, profile: str, env: dict, jobs: int) -> tuple[list[dict
     todo = []
     for doc in docs:
         src = source(doc)
+        nb = _read(src)
         try:
-            rec = cache.match_cache_notebook(_read(src))
+            rec = cache.match_cache_notebook(nb)
         except KeyError:
-            todo.append(doc)
+            row = adopt(cache, doc, src, nb, executed, profile) if executed else None
+            if row is None:
+                todo.append(doc)
+            else:
+                rows[doc] = row
             continue
         rows[doc] = {"doc": doc, "profile": profile, "seconds": rec.data.get("execution_seconds"),
                      "from_cache": True, "executed": rec.created.isoformat(timespec="seconds"),
                      "status": "ok"}
     todo.sort(key=lambda d: (d in LAST, LONGEST.index(d) if d in LONGEST else len(LONGEST),
                              docs.index(d)))
-    print(f"build_book: execution: {len(docs) - len(todo)} of {len(docs)} chapters cached, "
-          f"executing {len(todo)} with {jobs} worker(s)", file=sys.stderr, flush=True)
+    adopted = sum(1 for r in rows.values() if r.get("by") == "nbval")
+    print(f"build_book: execution: {len(docs) - len(todo) - adopted} of {len(docs)} chapters "
+          f"cached, {adopted} executed by nbval, executing {len(todo)} with {jobs} worker(s)",
+          file=sys.stderr, flush=True)
     lock = threading.Lock()
     failed: list[str] = []
     reports = out / "_build" / "reports"
@@ -344,6 +388,10 @@ def main(argv: list[str] | None = None) -> int:
                     help="share registry results through DIR instead of the build's own "
                          "folder (make test: one folder for the site build and nbval, emptied "
                          "at the start of the run)")
+    ap.add_argument("--executed", metavar="DIR", default=None,
+                    help="take each chapter's execution from DIR/<golden name>.ipynb where "
+                         "nbval wrote one whose code cells are the chapter's (make test: "
+                         "tests/golden/conftest.py); execute the others")
     ap.add_argument("--edition", choices=["instructor", "student"], default="instructor",
                     help="student: leave the exercises' solutions out (FUSIONCENTER_EDITION)")
     args = ap.parse_args(argv)
@@ -373,7 +421,8 @@ def main(argv: list[str] | None = None) -> int:
 
     _STAGE[0] = "execution"
     t0 = time.perf_counter()
-    rows, failed = preexecute(out, args.profile, env, jobs)
+    rows, failed = preexecute(out, args.profile, env, jobs,
+                              Path(args.executed).resolve() if args.executed else None)
     times["execution_s"] = round(time.perf_counter() - t0, 1)
     write_status(out, args.profile, rows, times)
     if failed:

@@ -93,9 +93,19 @@ def rename(proc: subprocess.Popen, name: str) -> None:
 
 
 def wait(proc: subprocess.Popen) -> int:
-    """Wait for a process :func:`start` started; its return code. It is no longer a stage."""
+    """Wait for a process :func:`start` started; its return code. It is no longer a stage.
+
+    Sets ``proc.cpu_seconds``: the user + system CPU time of the process and of every
+    descendant that was waited for (kernels, pool workers, Chromium), from ``wait4``."""
     try:
-        return proc.wait()
+        try:
+            _, status, usage = os.wait4(proc.pid, 0)
+        except ChildProcessError:  # reaped already (e.g. by Popen itself)
+            proc.cpu_seconds = None
+            return proc.wait()
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        proc.cpu_seconds = usage.ru_utime + usage.ru_stime
+        return proc.returncode
     finally:
         with _LOCK:
             _RUNNING.pop(proc.pid, None)
@@ -106,8 +116,16 @@ def run(name: str, cmd: list[str], **kw) -> int:
 
     Refuses to start (returns 130) once an interrupt has arrived.
     """
+    return run_timed(name, cmd, **kw)[0]
+
+
+def run_timed(name: str, cmd: list[str], **kw) -> tuple[int, float | None]:
+    """:func:`run`, also returning the CPU seconds of the process tree (see :func:`wait`)."""
     proc = start(name, cmd, **kw)
-    return 130 if proc is None else wait(proc)
+    if proc is None:
+        return 130, None
+    rc = wait(proc)
+    return rc, proc.cpu_seconds
 
 
 def running() -> list[str]:

@@ -64,19 +64,25 @@ class ExecutionStatus(SphinxDirective):
             para += ref
             secs = r.get("seconds")
             rows.append([para, r["profile"], "-" if secs is None else f"{secs:.1f}",
-                         "cache" if r["from_cache"] else "executed", _when(r["executed"]),
+                         "cache" if r["from_cache"] else
+                         f"executed by {r['by']}" if r.get("by") else "executed",
+                         _when(r["executed"]),
                          r["status"]])
         total = sum(r.get("seconds") or 0.0 for r in rec["chapters"])
         executed = [r for r in rec["chapters"] if not r["from_cache"]]
+        by_nbval = sum(1 for r in executed if r.get("by") == "nbval")
         stages = rec.get("stages", {})
+        here = len(executed) - by_nbval
         summary = nodes.paragraph(text=(
             f"Profile {rec['profile']}, built {_when(rec['built'])}: {len(rec['chapters'])} "
-            f"notebook chapters, {len(executed)} executed in this build "
-            f"({rec.get('jobs')} at a time), "
-            f"{len(rec['chapters']) - len(executed)} taken from the execution cache; their "
+            f"notebook chapters, "
+            + (f"{here} executed in this build ({rec.get('jobs')} at a time), " if here else "")
+            + (f"{by_nbval} executed by nbval's kernels in the same test run (their outputs "
+               f"checked against the reference notebooks), " if by_nbval else "")
+            + f"{len(rec['chapters']) - len(executed)} taken from the execution cache; their "
             f"execution times add up to {total:.1f} s"
             + (f", the execution stage took {stages['execution_s']:.1f} s of wall time"
-               if "execution_s" in stages else "") + "."))
+               if "execution_s" in stages and here else "") + "."))
         header = ["chapter", "profile", "execution time (s)", "source", "executed at",
                   "status"]
         return [summary, _table(header, rows)]

@@ -73,27 +73,76 @@ def test_page_count_and_numbers(pdf):
         assert str(i + 1) in lines, f"page {i + 1} does not show its number"
 
 
-def _proportional_text(page) -> str:
-    """The page's text outside monospace fonts (code and outputs may contain `$` legitimately)."""
-    parts: list[str] = []
-
-    def visit(text, cm, tm, font, size):
-        name = str((font or {}).get("/BaseFont", ""))
-        if "mono" not in name.lower() and "courier" not in name.lower():
-            parts.append(text)
-
-    page.extract_text(visitor_text=visit)
-    return "".join(parts)
+#: TeX that MathJax should have typeset: none of it may be printed in a proportional font
+#: (code and outputs, in monospace, may contain ``$`` legitimately).
+RAW_TEX = re.compile(r"\$|\\frac|\\begin\{|\\mathbb|\\tilde")
 
 
-def test_no_unrendered_math(pdf):
-    bad = []
-    for i, page in enumerate(pdf.pages):
-        text = _proportional_text(page)
-        for pattern in (r"\$", r"\\frac", r"\\begin\{", r"\\mathbb", r"\\tilde"):
-            if re.search(pattern, text):
-                bad.append(f"page {i + 1}: {pattern}")
+def unrendered_tex(path: Path) -> list[str]:
+    """``"page N: <match>"`` for every page of the PDF at ``path`` whose text outside monospace
+    fonts contains :data:`RAW_TEX`. PDFium reads the text (a page's whole text first; the font
+    of each character only on the pages where the pattern occurs at all): about 100 times
+    faster than pypdf's text extraction, which took 65 s on the fast site's 775 pages."""
+    import ctypes
+
+    import pypdfium2 as pdfium
+    import pypdfium2.raw as pdfium_c
+
+    found = []
+    font = ctypes.create_string_buffer(256)
+    doc = pdfium.PdfDocument(path)
+    try:
+        for i in range(len(doc)):
+            text = doc[i].get_textpage()
+            if not RAW_TEX.search(text.get_text_range()):
+                continue
+            chars = []
+            for k in range(text.count_chars()):
+                pdfium_c.FPDFText_GetFontInfo(text, k, font, len(font), None)
+                name = font.value.decode("latin-1").lower()
+                mono = "mono" in name or "courier" in name
+                chars.append(" " if mono else chr(pdfium_c.FPDFText_GetUnicode(text, k)))
+            match = RAW_TEX.search("".join(chars))
+            if match:
+                found.append(f"page {i + 1}: {match.group()}")
+    finally:
+        doc.close()
+    return found
+
+
+def test_no_unrendered_math(pdf, site):
+    bad = unrendered_tex(site.parent / "pdf" / "book.pdf")
     assert not bad, "unrendered TeX in the PDF: " + ", ".join(bad[:20])
+
+
+def test_unrendered_tex_is_found_outside_code_only(tmp_path):
+    """The check flags TeX in a proportional font and passes it over in a monospace one."""
+    import pypdfium2 as pdfium
+    import pypdfium2.raw as pdfium_c
+
+    doc = pdfium.PdfDocument.new()
+    for font_name, text in (("Helvetica", "the mean $\\frac{a}{b}$"),
+                            ("Courier", "print(f'${x:.2f}')"), ("Helvetica", "typeset: a/b")):
+        page = doc.new_page(300, 200)
+        font = pdfium_c.FPDFText_LoadStandardFont(doc, font_name.encode())
+        obj = pdfium_c.FPDFPageObj_CreateTextObj(doc, font, 12)
+        pdfium_c.FPDFText_SetText(obj, ctypes_wide(text))
+        pdfium_c.FPDFPageObj_Transform(obj, 1, 0, 0, 1, 20, 100)
+        pdfium_c.FPDFPage_InsertObject(page, obj)
+        pdfium_c.FPDFPage_GenerateContent(page)
+    path = tmp_path / "t.pdf"
+    doc.save(path)
+    doc.close()
+    assert unrendered_tex(path) == ["page 1: $"]
+
+
+def ctypes_wide(text: str):
+    """``text`` as PDFium's FPDF_WIDESTRING (UTF-16LE, zero-terminated)."""
+    import ctypes
+
+    raw = (text + "\0").encode("utf-16-le")
+    buf = ctypes.create_string_buffer(raw, len(raw))
+    return ctypes.cast(buf, ctypes.POINTER(ctypes.c_ushort))
 
 
 class _Images(HTMLParser):

@@ -262,5 +262,5 @@ def test_execution_status_page_lists_every_notebook_chapter(site):
     assert len(body) == len(notebook_chapters())
     for doc in notebook_chapters():
         assert f'href="{doc.removeprefix("book/")}.html' in html, doc  # a link to it
-    assert all(re.search(r">\s*(cache|executed)\s*<", r) for r in body)
+    assert all(re.search(r">\s*(cache|executed|executed by nbval)\s*<", r) for r in body)
     assert "status.html" in (site / "book" / "scorecard.html").read_text(encoding="utf-8")
