@@ -47,3 +47,17 @@ def test_one_worker_runs_them_one_after_the_other_in_order():
     run_tests.schedule(_jobs(log, seconds), 1)
     assert [name for ev, name in log if ev == "start"] == list("abcde")
     assert all(log[2 * i][1] == log[2 * i + 1][1] for i in range(5))  # never two at once
+
+
+def test_every_heavy_test_exists():
+    """tests/conftest.py's HEAVY names test functions that exist (a renamed test would
+    otherwise silently run on every Python again)."""
+    import ast
+
+    from conftest import HEAVY
+
+    tests = Path(__file__).resolve().parent
+    for name in HEAVY:
+        file, func = name.split("::")
+        tree = ast.parse((tests / file).read_text())
+        assert any(isinstance(n, ast.FunctionDef) and n.name == func for n in tree.body), name

@@ -268,7 +268,7 @@ def main() -> int:
             "library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
                         f"--junitxml={REPORTS / 'library.xml'}"],
             junit=REPORTS / "library.xml", env=fast, log=parallel)),
-        Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "3.12"],
+        Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
                                    log=parallel)),
     ]
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",

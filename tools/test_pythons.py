@@ -1,6 +1,6 @@
 """Run the library's tests on the other Pythons the package supports (``make test-pythons``).
 
-    python tools/test_pythons.py [3.12 3.13]
+    python tools/test_pythons.py [--quick] [3.12 3.13]
 
 For each version (pyenv's ``$(pyenv root)/versions/3.1x.y``, else ``python3.1x`` on PATH): a
 virtual environment in ``_build/pythons/<version>`` gets the library's wheel (built from this
@@ -9,6 +9,9 @@ repository, so the packaging is what is tested) with its dependencies at the loc
 the library's pytest runs there, from a copy of ``tests/`` outside the source tree so that
 ``fusioncenter`` is the installed one.
 The book, nbval and site tests stay on the book's Python 3.11 (they need the pinned Jupyter Book).
+``--quick`` (``make test``) leaves out the tests marked ``heavy`` (registry entries, mpmath
+sweeps, worker clusters: listed in ``tests/conftest.py``), which ``make test`` runs on 3.11;
+``make test-pythons`` runs every library test.
 """
 
 from __future__ import annotations
@@ -53,7 +56,15 @@ def installer(vpy: str) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    versions = (argv if argv is not None else sys.argv[1:]) or VERSIONS
+    args = list(argv if argv is not None else sys.argv[1:])
+    quick = "--quick" in args
+    versions = [a for a in args if a != "--quick"] or VERSIONS
+    unknown = [a for a in versions if a.startswith("-")]
+    if unknown:
+        print(f"pythons: unknown option(s) {unknown}; usage: test_pythons.py [--quick] "
+              "[3.12 3.13]")
+        return 2
+    selection = "not site and not slow" + (" and not heavy" if quick else "")
     failed = []
     with tempfile.TemporaryDirectory(prefix="fusioncenter-pythons-") as tmp:
         t0 = time.perf_counter()
@@ -86,11 +97,11 @@ def main(argv: list[str] | None = None) -> int:
                    "PYTHONPYCACHEPREFIX": str(Path(tmp) / "pycache")}  # and bytecode
             env.pop("PYTHONPATH", None)
             rc = subprocess.call([vpy, "-m", "pytest", "-p", "no:cacheprovider", "-q",
-                                  "-m", "not site and not slow", str(tests)], cwd=tmp, env=env)
+                                  "-m", selection, str(tests)], cwd=tmp, env=env)
             where = subprocess.run([vpy, "-c", "import sys, fusioncenter; "
                                     "print(sys.version.split()[0], fusioncenter.__file__)"],
                                    capture_output=True, text=True, cwd=tmp).stdout.strip()
-            print(f"pythons: {version}: {'ok' if rc == 0 else 'FAILED'} (environment "
+            print(f"pythons: {version}: {'ok' if rc == 0 else 'FAILED'} ({selection}; environment "
                   f"{t1 - t0:.0f} s, tests {time.perf_counter() - t1:.0f} s; {where})", flush=True)
             if rc != 0 or str(ROOT / "src") in where:
                 failed.append(version)
