@@ -2,29 +2,38 @@
 
 Stages (all run; the exit code is 1 if any failed):
 
-1. ruff        lint of src/, tests/, tools/, benchmarks/
-2. library     pytest on the library and the repository (not the site, not `slow`)
-3. nbval       strict nbval (``--nbval``) on the executed reference notebooks tests/golden/
-4. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-5. site        pytest on the built site: no external resources, headless-Chromium check, the PDF
+1. ruff        lint of src/, tests/, tools/, benchmarks/, book/_ext/
+2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
+               two shards of about equal execution time (:func:`nbval_shards`)
+3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
+4. pdf         the fast site printed as one PDF (tools/pdf_book.py); ``pdf tests`` check it
+5. site        pytest on the built site: no external resources, headless-Chromium check
+6. student     three downloaded notebooks run offline in a fresh Python 3.12
+               (tools/student_path.py)
+7. library     pytest on the library and the repository (not the site, not `slow`)
+8. pythons     the library's tests on Python 3.12 but those marked ``heavy`` (run here by the
+               library stage; ``make test-pythons`` runs them all on 3.12 and 3.13)
 
-With the library stage: ``pythons``, the library's tests on Python 3.12 (tools/test_pythons.py;
-``make test-pythons`` adds 3.13). After the site build: ``pdf`` prints the fast site as one PDF
-(tools/pdf_book.py) and ``student`` runs three downloaded notebooks offline in a fresh
-Python 3.12 (tools/student_path.py).
+Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
+code, checked by tests/test_golden.py), ``tests/golden/conftest.py`` keeps every notebook whose
+cells all passed, with the kernel's outputs, and the site build stores those in its execution
+cache when their code cells are the chapter's (``build_book.py --executed``); a chapter nbval
+did not pass is executed by the site build itself, which then fails on it as before. Registry
+results are shared by the kernels through the run's compute cache
+(``FUSIONCENTER_COMPUTE_CACHE``, a folder emptied at the start of every run, as is the folder of
+executed notebooks: nothing from an earlier run or another source tree is read).
 
-A skipped test in the site stage counts as a failure: the browser check may not be skipped.
+A skipped test in the site and pdf-tests stages counts as a failure: the browser check may not
+be skipped.
 
-The stages after ruff run on two workers (one per core of the 2-core machine; each stage runs
-notebooks or tests in one process most of the time), each worker taking the first stage of this
-order whose inputs are ready: site build, library, nbval, pdf (after the site build), pythons,
-student (after the site build), site (after the site build and the pdf). The site build goes
-first because its chapters, executed in parallel, compute the registry entries that nbval's
-notebooks then read from the run's compute cache (``FUSIONCENTER_COMPUTE_CACHE``, a folder
-emptied at the start of every run, so nothing from an earlier run or another source tree is
-read; the data are bitwise the same either way). Output goes to
-``_build/test-reports/<stage>.log`` and is printed whole when the stage ends.
-``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order.
+The stages after ruff run on two workers (one per core of the 2-core machine), each worker
+taking the first stage of the list above whose inputs are ready: the two nbval shards first,
+then the site build after both, the pages' stages after it; the library and the other
+Python's tests fill the gaps. Output goes to ``_build/test-reports/<stage>.log`` and is printed
+whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its process
+tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
+Chromium's renderers when the browser closes, so the pdf and site stages count too little). ``FUSIONCENTER_TEST_LANES=1`` runs the stages one
+after the other, in that order, nbval in one shard.
 
 Ctrl-C or SIGTERM stops every running stage with its whole process tree (kernels, jupyter-book,
 pytest workers: see ``tools/procs.py``), starts no further stage, prints which stages were
