@@ -28,7 +28,7 @@ from pathlib import Path
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from browser_check import CHROMIUM, CHROMIUM_ARGS  # noqa: E402
+from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY  # noqa: E402
 from chapters import ROOT  # noqa: E402
 
 PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14mm",
@@ -176,7 +176,7 @@ def build_pdf(site: Path, out: Path) -> dict:
             # page loads; the browser check is the one that reports external requests)
             browser = pw.chromium.launch(
                 executable_path=CHROMIUM, headless=True,
-                args=[*CHROMIUM_ARGS, "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1"])
+                args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
             page = browser.new_page(viewport={"width": 1000, "height": 1400})
             for part, doc in entries:
                 page.goto(f"{base}/{doc}.html", wait_until="load", timeout=60_000)

@@ -30,10 +30,11 @@ The stages after ruff run on two workers (one per core of the 2-core machine), e
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both, the pages' stages after it; the library and the other
 Python's tests fill the gaps. Output goes to ``_build/test-reports/<stage>.log`` and is printed
-whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its process
-tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
-Chromium's renderers when the browser closes, so the pdf and site stages count too little). ``FUSIONCENTER_TEST_LANES=1`` runs the stages one
-after the other, in that order, nbval in one shard.
+whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
+process tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
+Chromium's renderers when the browser closes, so the pdf and site stages count too little).
+``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order, nbval in one
+shard.
 
 Ctrl-C or SIGTERM stops every running stage with its whole process tree (kernels, jupyter-book,
 pytest workers: see ``tools/procs.py``), starts no further stage, prints which stages were
