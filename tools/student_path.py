@@ -76,7 +76,10 @@ def python_312() -> str:
 def build_wheel(outdir: Path) -> Path:
     """Build the library's wheel (via an sdist, so the source tree stays clean)."""
     outdir.mkdir(parents=True, exist_ok=True)
-    subprocess.run([sys.executable, "-m", "build", "--outdir", str(outdir), str(ROOT)],
+    # the isolated build environments with the book environment's uv when it has one (4.3 s
+    # against 7.3 s with pip's); the wheel is the same
+    uv = ["--installer", "uv"] if (Path(sys.executable).parent / "uv").exists() else []
+    subprocess.run([sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)],
                    check=True, stdout=subprocess.DEVNULL)
     from fusioncenter import __version__
 
