@@ -886,7 +886,8 @@ def _mp_log_rect(l1, u1, l2, u2, rho, dps=30):
 
         lo, hi = max(float(l1), -80.0), min(float(u1), 80.0)
         grid = np.linspace(lo, hi, 201)
-        logs = [float(mp.log(f(mp.mpf(g)))) if f(mp.mpf(g)) > 0 else -np.inf for g in grid]
+        vals = [f(mp.mpf(g)) for g in grid]  # once per point: f is the costly part
+        logs = [float(mp.log(v)) if v > 0 else -np.inf for v in vals]
         xm = grid[int(np.argmax(logs))]
         off = np.concatenate([-np.geomspace(1e-4, 80, 30)[::-1], [0.0], np.geomspace(1e-4, 80, 30)])
         pts = [mp.mpf(p) for p in sorted({float(np.clip(xm + o, lo, hi)) for o in off} | {lo, hi})]

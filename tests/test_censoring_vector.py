@@ -569,10 +569,11 @@ def _mp_log_canon(b1, b2, a1, a2, dps=30):
         b1, b2, a1, a2 = map(mp.mpf, (b1, b2, a1, a2))
 
         def f(t):
-            c = a2 * mp.cos(t)
+            cos_t = mp.cos(t)
+            c = a2 * cos_t
             A, B = -c - b2, c - b2
             d = mp.ncdf(-A) - mp.ncdf(-B) if A > 0 else mp.ncdf(B) - mp.ncdf(A)
-            return a1 * mp.cos(t) * mp.npdf(a1 * mp.sin(t) - b1) * d
+            return a1 * cos_t * mp.npdf(a1 * mp.sin(t) - b1) * d
 
         return float(mp.log(mp.quad(f, list(mp.linspace(-mp.pi / 2, mp.pi / 2, 81)))))
 
