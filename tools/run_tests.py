@@ -275,7 +275,8 @@ def main() -> int:
         Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
                                    log=parallel), after=("site build",)),
         Job("library", lambda: run(
-            "library", [*pytest, "tests", "-m", "not site and not slow", "--ignore=tests/golden",
+            "library", [*pytest, "-p", "no:nbval", "tests", "-m", "not site and not slow",
+                        "--ignore=tests/golden",
                         f"--junitxml={REPORTS / 'library.xml'}"],
             junit=REPORTS / "library.xml", env=fast, log=parallel)),
         Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
