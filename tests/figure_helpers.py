@@ -2,23 +2,36 @@
 
 An entry's fast-profile data are computed once per test session; ``data`` hands out a deep
 copy, so a test may corrupt it to show that a check fails.
+
+With the environment variable :data:`SHARED_CACHE` naming a folder (``make test``: the run's
+compute cache, filled by nbval's kernels executing the chapters with the same library, profile
+and seeds), :func:`cached_data` reads an entry found there instead of computing it again, and
+stores one it computes. Only this helper uses it: the tests of seeding, executors and
+overrides call ``run_compute`` themselves and always compute.
 """
 
 from __future__ import annotations
 
 import copy
 import functools
+import os
+from unittest import mock
 
 import matplotlib.figure
 import matplotlib.pyplot as plt
 
 from fusioncenter import figures
+from fusioncenter.figures.registry import CACHE_ENV
+
+SHARED_CACHE = "FUSIONCENTER_TEST_SHARED_CACHE"
 
 
 @functools.cache
 def cached_data(entry_id: str) -> dict:
     """The entry's fast-profile data (shared: do not modify; use :func:`data`)."""
-    return figures.get(entry_id).run_compute("fast")
+    shared = os.environ.get(SHARED_CACHE, "").strip()
+    with mock.patch.dict(os.environ, {CACHE_ENV: shared} if shared else {}):
+        return figures.get(entry_id).run_compute("fast")
 
 
 def data(entry_id: str) -> dict:

@@ -61,3 +61,25 @@ def test_every_heavy_test_exists():
         file, func = name.split("::")
         tree = ast.parse((tests / file).read_text())
         assert any(isinstance(n, ast.FunctionDef) and n.name == func for n in tree.body), name
+
+
+def test_figure_helpers_read_the_runs_shared_cache(tmp_path, monkeypatch):
+    """make test's library stage reads an entry that nbval's kernels computed (the run's compute
+    cache) instead of computing it again; without the variable it computes."""
+    import pickle
+
+    import figure_helpers
+
+    from fusioncenter import figures
+
+    entry = figures.get("mo2015-rate")
+    (tmp_path / f"{entry.id}.fast.{entry.seed}.pickle").write_bytes(
+        pickle.dumps({"stored by": "a kernel"}))
+    monkeypatch.setenv(figure_helpers.SHARED_CACHE, str(tmp_path))
+    figure_helpers.cached_data.cache_clear()
+    try:
+        assert figure_helpers.cached_data(entry.id) == {"stored by": "a kernel"}
+    finally:
+        figure_helpers.cached_data.cache_clear()
+    monkeypatch.delenv(figure_helpers.SHARED_CACHE)
+    assert "stored by" not in figure_helpers.cached_data(entry.id)

@@ -278,7 +278,8 @@ def main() -> int:
             "library", [*pytest, "-p", "no:nbval", "tests", "-m", "not site and not slow",
                         "--ignore=tests/golden",
                         f"--junitxml={REPORTS / 'library.xml'}"],
-            junit=REPORTS / "library.xml", env=fast, log=parallel)),
+            junit=REPORTS / "library.xml", env={**fast, "FUSIONCENTER_TEST_SHARED_CACHE":
+                                                 str(cache)}, log=parallel)),
         Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
                                    log=parallel)),
     ]
