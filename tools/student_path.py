@@ -138,9 +138,13 @@ def main(argv: list[str] | None = None) -> int:
         venv = tmp / "student-venv"
         subprocess.run([py, "-m", "venv", str(venv)], check=True)
         vpy = str(venv / "bin" / "python")
-        subprocess.run([vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check",
-                        "--no-index", "--find-links", str(wheelhouse), "nbclient", "ipykernel"],
-                       check=True)
+        # the harness (nbclient and a kernel) with the book environment's uv when it has one:
+        # the student's own step, the chapter's first cell, installs with the venv's pip
+        uv = Path(sys.executable).parent / "uv"
+        harness = [str(uv), "pip", "install", "--quiet", "--python", vpy] if uv.exists() else \
+            [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+        subprocess.run([*harness, "--no-index", "--find-links", str(wheelhouse), "nbclient",
+                        "ipykernel"], check=True)
         version = subprocess.run([vpy, "-c", "import sys; print(sys.version.split()[0])"],
                                  capture_output=True, text=True, check=True).stdout.strip()
         have = subprocess.run([vpy, "-c", "import fusioncenter"], capture_output=True)
