@@ -90,7 +90,7 @@ def keep(items, folder: Path) -> list[Path]:
     by_file: dict[Path, list] = {}
     for item in items:
         if hasattr(item, "cell_num"):  # an nbval cell (IPyNbCell)
-            by_file.setdefault(Path(str(item.parent.fspath)), []).append(item)
+            by_file.setdefault(Path(item.parent.path), []).append(item)
     folder.mkdir(parents=True, exist_ok=True)
     written = []
     for path, cells in by_file.items():
