@@ -6,13 +6,14 @@ Stages (all run; the exit code is 1 if any failed):
 2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
                two shards of about equal execution time (:func:`nbval_shards`)
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-4. pdf         the fast site printed as one PDF (tools/pdf_book.py); ``pdf tests`` check it
+4. pdf         the fast site printed as one PDF (tools/pdf_book.py)
 5. site        pytest on the built site: no external resources, headless-Chromium check
-6. student     three downloaded notebooks run offline in a fresh Python 3.12
-               (tools/student_path.py)
-7. library     pytest on the library and the repository (not the site, not `slow`)
-8. pythons     the library's tests on Python 3.12 but those marked ``heavy`` (run here by the
+6. library     pytest on the library and the repository (not the site, not `slow`)
+7. pythons     the library's tests on Python 3.12 but those marked ``heavy`` (run here by the
                library stage; ``make test-pythons`` runs them all on 3.12 and 3.13)
+8. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
+9. student     three downloaded notebooks run offline in a fresh Python 3.12
+               (tools/student_path.py)
 
 Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
 code, checked by tests/test_golden.py), ``tests/golden/conftest.py`` keeps every notebook whose
@@ -28,8 +29,11 @@ be skipped.
 
 The stages after ruff run on two workers (one per core of the 2-core machine), each worker
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
-then the site build after both, the pages' stages after it; the library and the other
-Python's tests fill the gaps. Output goes to ``_build/test-reports/<stage>.log`` and is printed
+then the site build after both and the PDF and the browser check after it, while the library
+stage takes the other worker; the short stages come last, to fill the end. The library
+stage's registry-entry tests read the entries from the run's compute cache too
+(``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of computing them again.
+Output goes to ``_build/test-reports/<stage>.log`` and is printed
 whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
 process tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
 Chromium's renderers when the browser closes, so the pdf and site stages count too little).
@@ -267,13 +271,6 @@ def main() -> int:
                      f"--junitxml={REPORTS / 'site.xml'}"],
             junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
             skips_fail=True, log=parallel), after=("site build",)),
-        Job("pdf tests", lambda: run(
-            "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
-                          f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
-            junit=REPORTS / "pdf-tests.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
-            skips_fail=True, log=parallel), after=("pdf",)),
-        Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
-                                   log=parallel), after=("site build",)),
         Job("library", lambda: run(
             "library", [*pytest, "-p", "no:nbval", "tests", "-m", "not site and not slow",
                         "--ignore=tests/golden",
@@ -282,6 +279,13 @@ def main() -> int:
                                                  str(cache)}, log=parallel)),
         Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
                                    log=parallel)),
+        Job("pdf tests", lambda: run(
+            "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
+                          f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
+            junit=REPORTS / "pdf-tests.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
+            skips_fail=True, log=parallel), after=("pdf",)),
+        Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
+                                   log=parallel), after=("site build",)),
     ]
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                            "book/_ext"])]
