@@ -96,7 +96,8 @@ def wait(proc: subprocess.Popen) -> int:
     """Wait for a process :func:`start` started; its return code. It is no longer a stage.
 
     Sets ``proc.cpu_seconds``: the user + system CPU time of the process and of every
-    descendant that was waited for (kernels, pool workers, Chromium), from ``wait4``."""
+    descendant that was waited for (kernels, pool workers), from ``wait4``; a descendant
+    orphaned before it ends (Chromium's renderers when the browser closes) is not counted."""
     try:
         try:
             _, status, usage = os.wait4(proc.pid, 0)
