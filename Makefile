@@ -45,8 +45,9 @@ lab: venv
 
 # Chromium prints the pages (Debian's package, as for the browser check in `make test`)
 pdf: venv
-	@command -v chromium >/dev/null 2>&1 || { echo "make pdf: installing Debian's chromium" >&2; \
-	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
+	@command -v chromium-headless-shell >/dev/null 2>&1 || { echo "make pdf: installing Debian's chromium" >&2; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium \
+	  chromium-headless-shell >/dev/null; }
 	@test -f _build/html/index.html || $(PY) tools/build_book.py --profile paper
 	@$(PY) tools/pdf_book.py --site _build/html --out _build/pdf/book.pdf
 
