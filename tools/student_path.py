@@ -73,12 +73,24 @@ def python_312() -> str:
     return found[-1]
 
 
+#: The book environment's uv (installed by tools/bootstrap.sh), where it could be had.
+UV = Path(sys.executable).parent / "uv"
+
+
+def installer(vpy: str) -> list[str]:
+    """The install command for the environment of ``vpy``: the book environment's uv (the same
+    pins, in parallel), else that environment's pip."""
+    if UV.exists():
+        return [str(UV), "pip", "install", "--quiet", "--python", vpy]
+    return [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+
+
 def build_wheel(outdir: Path) -> Path:
     """Build the library's wheel (via an sdist, so the source tree stays clean)."""
     outdir.mkdir(parents=True, exist_ok=True)
     # the isolated build environments with the book environment's uv when it has one (4.3 s
     # against 7.3 s with pip's); the wheel is the same
-    uv = ["--installer", "uv"] if (Path(sys.executable).parent / "uv").exists() else []
+    uv = ["--installer", "uv"] if UV.exists() else []
     subprocess.run([sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)],
                    check=True, stdout=subprocess.DEVNULL)
     from fusioncenter import __version__
@@ -138,13 +150,10 @@ def main(argv: list[str] | None = None) -> int:
         venv = tmp / "student-venv"
         subprocess.run([py, "-m", "venv", str(venv)], check=True)
         vpy = str(venv / "bin" / "python")
-        # the harness (nbclient and a kernel) with the book environment's uv when it has one:
-        # the student's own step, the chapter's first cell, installs with the venv's pip
-        uv = Path(sys.executable).parent / "uv"
-        harness = [str(uv), "pip", "install", "--quiet", "--python", vpy] if uv.exists() else \
-            [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
-        subprocess.run([*harness, "--no-index", "--find-links", str(wheelhouse), "nbclient",
-                        "ipykernel"], check=True)
+        # the harness (nbclient and a kernel) with uv where it can be had: the student's own
+        # step, the chapter's first cell, installs with the venv's pip
+        subprocess.run([*installer(vpy), "--no-index", "--find-links", str(wheelhouse),
+                        "nbclient", "ipykernel"], check=True)
         version = subprocess.run([vpy, "-c", "import sys; print(sys.version.split()[0])"],
                                  capture_output=True, text=True, check=True).stdout.strip()
         have = subprocess.run([vpy, "-c", "import fusioncenter"], capture_output=True)

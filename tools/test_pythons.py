@@ -27,7 +27,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
-from student_path import build_wheel  # noqa: E402
+from student_path import build_wheel, installer  # noqa: E402
 
 VERSIONS = ["3.12", "3.13"]
 # tests of the repository (its source tree, tools and structure) and of the book (Jupyter Book,
@@ -45,15 +45,6 @@ def interpreter(version: str) -> str | None:
     found = sorted(glob.glob(f"{root}/versions/{version}.*/bin/python"),
                    key=lambda p: [int(x) for x in Path(p).parent.parent.name.split(".")])
     return found[-1] if found else shutil.which(f"python{version}")
-
-
-def installer(vpy: str) -> list[str]:
-    """The install command for the environment of ``vpy``: the book environment's uv (installed
-    by tools/bootstrap.sh; the same pins, in parallel), else that environment's pip."""
-    uv = Path(sys.executable).parent / "uv"
-    if uv.exists():
-        return [str(uv), "pip", "install", "--quiet", "--python", vpy]
-    return [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
 
 
 def main(argv: list[str] | None = None) -> int:
