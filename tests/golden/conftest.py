@@ -11,16 +11,28 @@ text and figures is the kernel's), images included, and sequential execution cou
 ``tools/build_book.py --executed DIR`` stores those in the site's execution cache when their
 code cells are those of the chapter, and executes the rest itself. Without the variable the
 plugin does nothing.
+
+With ``--nbval-kernel-name fusioncenter-fork`` (``make test``) the kernels are forked from one
+process that has imported the chapters' libraries already (``tools/kernel_fork.py``): this
+plugin provides the kernelspec, starts that process before the first notebook and stops it at
+the end, and reports how many kernels were forked and why any was not.
 """
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import os
+import shutil
+import sys
+import tempfile
 import time
 from pathlib import Path
 
 import pytest
+
+#: tools/kernel_fork.py's KERNEL_NAME (imported only when asked for: nbval alone needs nothing)
+FORK_KERNEL = "fusioncenter-fork"
 
 ENV = "FUSIONCENTER_NBVAL_EXECUTED"
 #: metadata key of a kept notebook: ``{"profile", "seconds", "cells", "executed"}``
@@ -66,6 +78,44 @@ if _FOLDER:
 
     def pytest_sessionfinish(session):
         keep(session.items, Path(_FOLDER))
+
+
+_fork: dict = {}  # "stack", "log": the warm process of tools/kernel_fork.py
+
+
+def pytest_configure(config):
+    if getattr(config.option, "nbval_kernel_name", None) != FORK_KERNEL:
+        return
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+    import kernel_fork
+
+    assert kernel_fork.KERNEL_NAME == FORK_KERNEL
+    tmp = Path(tempfile.mkdtemp(prefix="fusioncenter-fork-"))
+    stack = contextlib.ExitStack()
+    stack.callback(shutil.rmtree, tmp, ignore_errors=True)
+    try:
+        log = stack.enter_context(kernel_fork.warm_kernels(tmp))
+    except RuntimeError as exc:
+        stack.close()
+        raise pytest.UsageError(str(exc)) from None
+    _fork.update(stack=stack, log=log)
+
+
+def pytest_terminal_summary(terminalreporter):
+    if _fork:
+        lines = _fork["log"].read_text().splitlines()
+        forked = sum(1 for line in lines if line.startswith("kernel_fork: forked"))
+        others = [line for line in lines if "forked" not in line and "ready" not in line]
+        terminalreporter.write_line(f"kernel_fork: {forked} kernel(s) forked from the warm "
+                                    f"process; {len(others)} other line(s)")
+        for line in others:
+            terminalreporter.write_line(f"    {line}")
+
+
+def pytest_unconfigure(config):
+    if _fork:
+        _fork.pop("stack").close()
+        _fork.clear()
 
 
 def _output(raw: dict):

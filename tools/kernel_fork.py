@@ -1,0 +1,295 @@
+"""Jupyter kernels forked from one process that has already imported the book's libraries.
+
+    python tools/kernel_fork.py serve SOCKET [MODULE,...]   # the warm process (tests/golden)
+    python tools/kernel_fork.py launch -f FILE    # what the kernelspec runs (jupyter_client)
+
+Every chapter of the book starts a new kernel, and before its first result each one imports
+IPython and ipykernel, NumPy, SciPy, SymPy, numba, matplotlib and the library: 2 to 6 s of CPU
+per chapter on this 2-core machine. nbval on the 29 reference notebooks, one process on an idle
+machine: 282 s (286 s CPU) with new processes, 208 s (208 s CPU) with forked kernels.
+
+``serve`` imports those once (:data:`PRELOAD`) and waits on a Unix socket; ``launch`` is the
+kernel command of the kernelspec :data:`KERNEL_NAME`: a small process that hands its connection
+file, environment, working directory and standard streams to the warm process, which forks. The
+child becomes an ordinary ipykernel (``ipykernel_launcher -f FILE``) in the state a new process
+would have reached after the same imports, with the launcher's working directory, environment
+and streams. The launcher stays in place as the process jupyter_client manages: it forwards
+every signal it is sent (interrupt, terminate) to the kernel and exits when the kernel has; the
+kernel exits when the launcher dies (even by SIGKILL).
+
+Nothing is shared that a new process would not have: the warm process runs no user code, starts
+no thread (:func:`serve` checks) and only imports, in the environment the kernels get.
+``launch`` falls back to a new process (``exec`` of ``python -m ipykernel_launcher``) whenever
+forking would not be equivalent: the warm process is not reachable, or the kernel's
+environment differs from the one it imported in (other than :data:`PER_KERNEL` variables).
+It says so on its standard error.
+
+matplotlib is imported with ``MPLBACKEND`` set as ipykernel sets it (to the inline backend,
+unless already set); pyplot resolves the backend only when the first figure is made, in the
+kernel, where the inline backend hooks into the kernel's shell. Checked against kernels started
+as new processes, on the 29 reference notebooks: every printed text is the same (up to where
+ipykernel splits a stream), and 53 of the 54 PNG outputs are the same bytes; the 54th is the
+synthesis chapter's cost figure, which plots measured run times.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+KERNEL_NAME = "fusioncenter-fork"
+SOCKET_ENV = "FUSIONCENTER_KERNEL_FORK"
+#: set for each kernel (by jupyter_client, by pytest for the test that starts it, by the
+#: terminal size): no module reads them when it is imported, only when it is called
+PER_KERNEL = frozenset({"JPY_PARENT_PID", "JPY_SESSION_NAME", "PYTEST_CURRENT_TEST", "COLUMNS",
+                        "LINES"})
+#: what the chapters import (tests/golden/*.ipynb)
+PRELOAD = [
+    "ipykernel.kernelapp", "ipykernel.ipkernel", "IPython.display", "numpy", "scipy.stats",
+    "scipy.integrate", "scipy.optimize", "scipy.special", "scipy.linalg", "sympy", "sympy.stats",
+    "mpmath", "filterpy.kalman", "matplotlib", "matplotlib.figure", "fusioncenter",
+    "fusioncenter.figures", "fusioncenter.censoring", "fusioncenter.censoring_vector",
+    "fusioncenter.censoring_nonlinear", "fusioncenter.event", "fusioncenter.fading",
+    "fusioncenter.power", "fusioncenter.synthesis", "fusioncenter.particle",
+    "fusioncenter.riccati", "fusioncenter.kalman", "fusioncenter.models", "matplotlib.pyplot",
+    "fusioncenter.plotting", "fusioncenter.book",
+]
+
+
+def _send(sock: socket.socket, obj: dict, fds: list[int] = ()) -> None:
+    data = json.dumps(obj).encode()
+    socket.send_fds(sock, [struct.pack("!I", len(data)) + data], list(fds))
+
+
+def _recv(sock: socket.socket, maxfds: int = 0) -> tuple[dict, list[int]]:
+    buf, fds, _flags, _addr = socket.recv_fds(sock, 1 << 16, maxfds)
+    if len(buf) < 4:
+        raise ConnectionError("short message")
+    (n,) = struct.unpack("!I", buf[:4])
+    buf = buf[4:]
+    while len(buf) < n:
+        more = sock.recv(n - len(buf))
+        if not more:
+            raise ConnectionError("connection closed mid-message")
+        buf += more
+    return json.loads(buf), fds
+
+
+def _differences(env: dict, mine: dict) -> list[str]:
+    keys = (set(env) | set(mine)) - PER_KERNEL
+    return sorted(k for k in keys if env.get(k) != mine.get(k))
+
+
+# --------------------------------------------------------------------------- the warm process
+def serve(path: str, preload: list[str] = PRELOAD) -> None:
+    import importlib
+    import threading
+
+    env = dict(os.environ)  # the environment the kernels must have, as they will see it
+    # the path a kernel has while it loads (ipykernel_launcher drops the script's folder;
+    # IPKernelApp.init_path puts '' back)
+    if sys.path and os.path.abspath(sys.path[0]) == os.path.dirname(os.path.abspath(__file__)):
+        del sys.path[0]
+    # ipykernel's own default (IPKernelApp.init_gui_pylab), before matplotlib reads it
+    if not os.environ.get("MPLBACKEND"):
+        os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+    for name in preload:
+        importlib.import_module(name)
+    if threading.active_count() != 1:
+        raise RuntimeError(f"kernel_fork: the preload started threads: {threading.enumerate()}")
+    def reap(_signum, _frame):  # at once, so that a kernel's CPU time counts as this tree's
+        try:
+            while os.waitpid(-1, os.WNOHANG)[0] > 0:
+                pass
+        except ChildProcessError:
+            pass
+
+    signal.signal(signal.SIGCHLD, reap)
+    listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    listener.bind(path)
+    listener.listen(64)
+    print(f"kernel_fork: ready ({len(sys.modules)} modules)", flush=True)
+    log = sys.stdout  # one line per kernel: "forked PID" or "fallback: why"
+    while True:
+        conn, _ = listener.accept()
+        try:
+            req, fds = _recv(conn, maxfds=3)
+        except (OSError, ValueError, ConnectionError):
+            conn.close()
+            continue
+        diff = _differences(req["env"], env)
+        if diff or len(fds) != 3:
+            why = f"environment differs in {diff[:8]}" if diff else "no standard streams"
+            _send(conn, {"fallback": why})
+            print(f"kernel_fork: fallback: {why}", file=log, flush=True)
+            conn.close()
+            for fd in fds:
+                os.close(fd)
+            continue
+        pid = os.fork()
+        if pid == 0:
+            listener.close()
+            _become_kernel(conn, fds, req)  # never returns
+        print(f"kernel_fork: forked {pid}", file=log, flush=True)
+        conn.close()
+        for fd in fds:
+            os.close(fd)
+
+
+def _become_kernel(conn: socket.socket, fds: list[int], req: dict) -> None:
+    import atexit
+    import threading
+
+    code = 1
+    try:
+        os.setsid()  # a session of its own, as jupyter_client starts kernels
+        for fd, target in zip(fds, (0, 1, 2), strict=True):
+            os.dup2(fd, target)
+            os.close(fd)
+        signal.signal(signal.SIGCHLD, signal.SIG_DFL)
+        _send(conn, {"pid": os.getpid()})
+        conn.close()
+        os.chdir(req["cwd"])
+        os.environ.clear()
+        os.environ.update(req["env"])
+        if not req["env"].get("MPLBACKEND"):
+            os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+        import importlib.util
+
+        # argv[0] as `python -m ipykernel_launcher` has it
+        sys.argv = [importlib.util.find_spec("ipykernel_launcher").origin, *req["argv"]]
+        launcher = int(req["launcher"])
+
+        def watch() -> None:  # the launcher is what jupyter_client kills
+            while True:
+                time.sleep(0.2)
+                try:
+                    os.kill(launcher, 0)
+                except ProcessLookupError:
+                    os._exit(1)
+
+        threading.Thread(target=watch, daemon=True, name="kernel_fork-watch").start()
+        from ipykernel import kernelapp
+
+        try:
+            kernelapp.launch_new_instance()
+            code = 0
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    except BaseException:  # noqa: BLE001 - report, then leave the warm process's stack
+        import traceback
+
+        traceback.print_exc()
+    finally:
+        try:
+            atexit._run_exitfuncs()
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(code)
+
+
+@contextlib.contextmanager
+def warm_kernels(tmp: Path, timeout: float = 600.0, preload: list[str] | None = None):
+    """The kernelspec :data:`KERNEL_NAME` (in ``tmp``, put on ``JUPYTER_PATH``) and its warm
+    process (socket ``tmp/socket``), for kernels this process starts while the context lasts;
+    yields the warm process's log (one line per kernel). ``os.environ`` gets both variables
+    before the warm process starts: they are part of the environment the kernels will have.
+    ``preload`` replaces :data:`PRELOAD` (the tests of the mechanism)."""
+    spec = tmp / "kernels" / KERNEL_NAME
+    spec.mkdir(parents=True)
+    spec.joinpath("kernel.json").write_text(json.dumps({
+        "argv": [sys.executable, os.path.abspath(__file__), "launch", "-f", "{connection_file}"],
+        "display_name": "Python 3 (forked)", "language": "python",
+        "metadata": {"debugger": True}}))
+    saved = {k: os.environ.get(k) for k in ("JUPYTER_PATH", SOCKET_ENV)}
+    os.environ["JUPYTER_PATH"] = os.pathsep.join(p for p in (str(tmp), saved["JUPYTER_PATH"])
+                                                 if p)
+    os.environ[SOCKET_ENV] = str(tmp / "socket")
+    log = tmp / "log"
+    with log.open("w") as fh:
+        proc = subprocess.Popen([sys.executable, os.path.abspath(__file__), "serve",
+                                 str(tmp / "socket"),
+                                 *([",".join(preload)] if preload is not None else [])],
+                                stdin=subprocess.DEVNULL, stdout=fh, stderr=subprocess.STDOUT)
+    try:
+        deadline = time.monotonic() + timeout  # a fresh clone compiles the bytecode first
+        while "kernel_fork: ready" not in log.read_text():
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError("tools/kernel_fork.py serve did not start:\n"
+                                   + log.read_text()[-3000:])
+            time.sleep(0.05)
+        yield log
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+# --------------------------------------------------------------------------- the kernel command
+def _fallback(argv: list[str], why: str) -> None:
+    print(f"kernel_fork: starting a new kernel process ({why})", file=sys.stderr, flush=True)
+    os.execv(sys.executable, [sys.executable, "-m", "ipykernel_launcher", *argv])
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    if args[:1] == ["serve"] and len(args) in (2, 3):
+        serve(args[1], *([[m for m in args[2].split(",") if m]] if len(args) == 3 else []))
+        return 0
+    if args[:1] != ["launch"]:
+        print(__doc__.split("\n\n")[1], file=sys.stderr)
+        return 2
+    kargs = args[1:]
+    path = os.environ.get(SOCKET_ENV, "").strip()
+    if not path:
+        _fallback(kargs, f"{SOCKET_ENV} is not set")
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        sock.connect(path)
+        _send(sock, {"argv": kargs, "env": dict(os.environ),
+                     "cwd": os.getcwd(), "launcher": os.getpid()}, [0, 1, 2])
+        reply, _ = _recv(sock)
+    except (OSError, ValueError, ConnectionError) as exc:
+        _fallback(kargs, f"the warm process at {path} did not answer: {exc}")
+    finally:
+        sock.close()
+    if "pid" not in reply:
+        _fallback(kargs, reply.get("fallback", "refused"))
+    pid = int(reply["pid"])
+
+    def forward(signum, _frame):
+        try:
+            os.kill(pid, signum)
+        except ProcessLookupError:
+            pass
+
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGUSR1,
+                signal.SIGUSR2):
+        signal.signal(sig, forward)
+    while True:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return 0
+        time.sleep(0.05)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
