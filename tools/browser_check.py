@@ -204,8 +204,13 @@ def check_site(
     min_math_pages: int = 0,
     min_images: int = 0,
     log: Callable[[str], None] | None = None,
+    printer=None,
 ) -> list[str]:
-    """Check every page of ``html_dir`` in headless Chromium; return the list of problems."""
+    """Check every page of ``html_dir`` in headless Chromium; return the list of problems.
+
+    With ``printer`` (a ``tools/pdf_book.py`` ``Printer``), every page of the book's table of
+    contents is also printed once its checks are done, from the same load, and the PDF is
+    written at the end: ``make test`` loads and typesets the site once for both."""
     html_dir = Path(html_dir).resolve()
     say = log or (lambda _msg: None)
     if not (html_dir / "index.html").is_file():
@@ -324,6 +329,13 @@ def check_site(
                                             f"{str(exc).strip().splitlines()[0]}")
                     layouts.append(layout)
                     res.problems += layout.problems()
+                doc = rel.removesuffix(".html")
+                if printer is not None and parser.refresh_target is None and printer.wants(doc):
+                    try:
+                        printer.add(page, doc)
+                    except PlaywrightError as exc:
+                        res.problems.append(f"page {rel}: not printed: "
+                                            f"{str(exc).strip().splitlines()[0]}")
                 current["page"] = None
                 res.problems = list(dict.fromkeys(res.problems))  # e.g. one 404 seen twice
                 results.append(res)
@@ -333,6 +345,16 @@ def check_site(
                 if parser.refresh_target is None:
                     for layout in layouts[-len(LAYOUT_VIEWPORTS):]:
                         say(layout.line())
+            if printer is not None:
+                try:
+                    stats = printer.write(page)
+                    say(f"pdf: wrote {printer.out} ({stats['total_pages']} pages, "
+                        f"{stats['chapters']} chapters, {stats['bytes'] / 1e6:.1f} MB)")
+                    if stats["raw_math"]:
+                        site_problems.append(f"PDF: {stats['raw_math']} math elements left "
+                                             "untypeset")
+                except (PlaywrightError, RuntimeError) as exc:
+                    site_problems.append(f"PDF not written: {exc}")
             context.close()
             browser.close()
     finally:

@@ -10,6 +10,10 @@ print CSS wraps code and outputs instead of clipping them and opens every collap
 page and a table of contents (with the page where each chapter starts), stamps page numbers
 and adds one bookmark per chapter under one per part. The PDF is written next to the site:
 ``<site>/../pdf/book.pdf``.
+
+The printing is :class:`Printer`'s; in ``make test`` the browser check (tools/browser_check.py)
+drives it from the pages it has just loaded and checked, and the PDF is the same: its 775 pages
+render to the same pixels as this script's.
 """
 
 from __future__ import annotations
@@ -28,7 +32,9 @@ from pathlib import Path
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY  # noqa: E402
+# VIEWPORT: the window a page is printed from, the browser check's (the print layout does not
+# depend on it: the 238 pages of the API page print the same from a 1000 x 1400 window)
+from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY, VIEWPORT  # noqa: E402
 from chapters import ROOT  # noqa: E402
 
 PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14mm",
@@ -154,21 +160,116 @@ def _numbers_html(n: int, skip: int) -> str:
                      "text-align:center;font-size:9pt;color:#333}")
 
 
+class Printer:
+    """Prints the site's pages into one PDF, a page of the browser at a time.
+
+    :func:`build_pdf` loads every page of the table of contents for it; the browser check of
+    ``make test`` (``tools/browser_check.py``) hands it each page it has just checked instead,
+    so that the site is loaded and typeset once for both. Either way a page is printed by
+    :meth:`add` from the same state: loaded, at the window :data:`VIEWPORT`, then print media,
+    :data:`PRINT_CSS`, every collapsed block opened and MathJax's typesetting awaited.
+    """
+
+    def __init__(self, site: Path, out: Path) -> None:
+        self.site, self.out = site, out
+        self.cfg = yaml.safe_load((ROOT / "_config.yml").read_text())
+        self.entries = toc_entries()
+        missing = [d for _, d in self.entries if not (site / f"{d}.html").exists()]
+        if missing:
+            raise FileNotFoundError(f"pages missing from {site}: {missing}")
+        self.printed: dict[str, tuple[str, object]] = {}  # doc -> (title, PdfReader)
+        self.raw_math = 0
+        self.t0 = time.perf_counter()
+
+    def wants(self, doc: str) -> bool:
+        return any(d == doc for _, d in self.entries) and doc not in self.printed
+
+    def add(self, page, doc: str) -> None:
+        """Print the page loaded in ``page`` (the site's ``doc``), at :data:`VIEWPORT`; the
+        page's media is the screen again afterwards (for the next page it loads)."""
+        from pypdf import PdfReader
+
+        if page.viewport_size != VIEWPORT:
+            page.set_viewport_size(VIEWPORT)
+        page.emulate_media(media="print")
+        page.add_style_tag(content=PRINT_CSS)
+        info = page.evaluate(OPEN_AND_TYPESET_JS)
+        pdf = page.pdf(**PAGE, print_background=True, prefer_css_page_size=False)
+        page.emulate_media(media="null")
+        reader = PdfReader(io.BytesIO(pdf))
+        self.printed[doc] = (info["title"], reader)
+        self.raw_math += info["rawMath"]
+        print(f"pdf: {doc:<40} {len(reader.pages):3d} pages  {info['images']:2d} images"
+              + (f"  RAW MATH {info['rawMath']}" if info["rawMath"] else ""), flush=True)
+
+    def write(self, page) -> dict:
+        """Front matter and page numbers (printed in ``page``), then the whole PDF to ``out``."""
+        from pypdf import PdfReader, PdfWriter
+
+        missing = [d for _, d in self.entries if d not in self.printed]
+        if missing:
+            raise RuntimeError(f"pages not printed: {missing}")
+        chapters = [(part, doc, *self.printed[doc]) for part, doc in self.entries]
+
+        def render(doc_html: str) -> PdfReader:
+            page.set_content(doc_html, wait_until="load")
+            return PdfReader(io.BytesIO(page.pdf(**PAGE, print_background=True)))
+
+        cfg = self.cfg
+        named = [(p, d, t) for p, d, t, _ in chapters]
+        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, None)
+        front = len(render(title_html).pages) + len(render(toc_html).pages)
+        starts, n = [], front
+        for *_, r in chapters:
+            starts.append(n + 1)
+            n += len(r.pages)
+        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, starts)
+        title_pdf, toc_pdf = render(title_html), render(toc_html)
+        if len(title_pdf.pages) + len(toc_pdf.pages) != front:
+            raise RuntimeError("the table of contents changed length between two passes")
+        page.set_content(_numbers_html(n, skip=1), wait_until="load")
+        numbers = PdfReader(io.BytesIO(page.pdf(format="A4", margin={
+            "top": "0", "bottom": "0", "left": "0", "right": "0"})))
+
+        writer = PdfWriter()
+        for r in (title_pdf, toc_pdf):
+            for p in r.pages:
+                writer.add_page(p)
+        parts: dict[str, object] = {}
+        for (part, _doc, title, r), start in zip(chapters, starts, strict=True):
+            first = len(writer.pages)
+            for p in r.pages:
+                writer.add_page(p)
+            parent = None
+            if part:
+                if part not in parts:
+                    parts[part] = writer.add_outline_item(title=part, page_number=first)
+                parent = parts[part]
+            writer.add_outline_item(title=title, page_number=first, parent=parent)
+            assert first + 1 == start
+        for i, p in enumerate(writer.pages):
+            p.merge_page(numbers.pages[i])
+            p.compress_content_streams()
+        writer.add_metadata({"/Title": cfg["title"], "/Author": cfg.get("author", "")})
+        writer.compress_identical_objects()
+        out = self.out
+        out.parent.mkdir(parents=True, exist_ok=True)
+        with out.open("wb") as fh:
+            writer.write(fh)
+        return {"pages": {d: len(r.pages) for _, d, _, r in chapters}, "raw_math": self.raw_math,
+                "total_pages": len(writer.pages), "chapters": len(chapters),
+                "front_pages": front, "seconds": time.perf_counter() - self.t0,
+                "bytes": out.stat().st_size}
+
+
 def build_pdf(site: Path, out: Path) -> dict:
     from playwright.sync_api import sync_playwright
-    from pypdf import PdfReader, PdfWriter
 
-    cfg = yaml.safe_load((ROOT / "_config.yml").read_text())
-    entries = toc_entries()
-    missing = [d for _, d in entries if not (site / f"{d}.html").exists()]
-    if missing:
-        raise FileNotFoundError(f"pages missing from {site}: {missing}")
+    printer = Printer(site, out)
     handler = functools.partial(_Quiet, directory=str(site))
     server = _Server(("127.0.0.1", 0), handler)
     threading.Thread(target=server.serve_forever, daemon=True).start()
     base = f"http://127.0.0.1:{server.server_address[1]}"
-    chapters, stats = [], {"pages": {}, "raw_math": 0}
-    t0 = time.perf_counter()
     try:
         with sync_playwright() as pw:
             # nothing but this server is reachable: any other host fails to resolve at once
@@ -177,69 +278,14 @@ def build_pdf(site: Path, out: Path) -> dict:
             browser = pw.chromium.launch(
                 executable_path=CHROMIUM, headless=True,
                 args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
-            page = browser.new_page(viewport={"width": 1000, "height": 1400})
-            for part, doc in entries:
+            page = browser.new_page(viewport=VIEWPORT)
+            for _part, doc in printer.entries:
                 page.goto(f"{base}/{doc}.html", wait_until="load", timeout=60_000)
-                page.emulate_media(media="print")
-                page.add_style_tag(content=PRINT_CSS)
-                info = page.evaluate(OPEN_AND_TYPESET_JS)
-                pdf = page.pdf(**PAGE, print_background=True, prefer_css_page_size=False)
-                reader = PdfReader(io.BytesIO(pdf))
-                chapters.append((part, doc, info["title"], reader))
-                stats["pages"][doc] = len(reader.pages)
-                stats["raw_math"] += info["rawMath"]
-                print(f"pdf: {doc:<40} {len(reader.pages):3d} pages  {info['images']:2d} images"
-                      + (f"  RAW MATH {info['rawMath']}" if info["rawMath"] else ""), flush=True)
-
-            def render(doc_html: str) -> PdfReader:
-                page.set_content(doc_html, wait_until="load")
-                return PdfReader(io.BytesIO(page.pdf(**PAGE, print_background=True)))
-
-            named = [(p, d, t) for p, d, t, _ in chapters]
-            title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, None)
-            front = len(render(title_html).pages) + len(render(toc_html).pages)
-            starts, n = [], front
-            for *_, r in chapters:
-                starts.append(n + 1)
-                n += len(r.pages)
-            title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named,
-                                                 starts)
-            title_pdf, toc_pdf = render(title_html), render(toc_html)
-            if len(title_pdf.pages) + len(toc_pdf.pages) != front:
-                raise RuntimeError("the table of contents changed length between two passes")
-            page.set_content(_numbers_html(n, skip=1), wait_until="load")
-            numbers = PdfReader(io.BytesIO(page.pdf(format="A4", margin={
-                "top": "0", "bottom": "0", "left": "0", "right": "0"})))
+                printer.add(page, doc)
+            stats = printer.write(page)
             browser.close()
     finally:
         server.shutdown()
-
-    writer = PdfWriter()
-    for r in (title_pdf, toc_pdf):
-        for p in r.pages:
-            writer.add_page(p)
-    parts: dict[str, object] = {}
-    for (part, _doc, title, r), start in zip(chapters, starts, strict=True):
-        first = len(writer.pages)
-        for p in r.pages:
-            writer.add_page(p)
-        parent = None
-        if part:
-            if part not in parts:
-                parts[part] = writer.add_outline_item(title=part, page_number=first)
-            parent = parts[part]
-        writer.add_outline_item(title=title, page_number=first, parent=parent)
-        assert first + 1 == start
-    for i, p in enumerate(writer.pages):
-        p.merge_page(numbers.pages[i])
-        p.compress_content_streams()
-    writer.add_metadata({"/Title": cfg["title"], "/Author": cfg.get("author", "")})
-    writer.compress_identical_objects()
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("wb") as fh:
-        writer.write(fh)
-    stats.update(total_pages=len(writer.pages), chapters=len(chapters), front_pages=front,
-                 seconds=time.perf_counter() - t0, bytes=out.stat().st_size)
     return stats
 
 

@@ -4,15 +4,18 @@ Stages (all run; the exit code is 1 if any failed):
 
 1. ruff        lint of src/, tests/, tools/, benchmarks/, book/_ext/
 2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
-               two shards of about equal execution time (:func:`nbval_shards`)
+               two shards of about equal execution time (:func:`nbval_shards`), each kernel
+               forked from a process that has imported the chapters' libraries
+               (tools/kernel_fork.py; a kernel whose environment differs starts anew)
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-4. pdf         the fast site printed as one PDF (tools/pdf_book.py)
-5. site        pytest on the built site: no external resources, headless-Chromium check
-6. library     pytest on the library and the repository (not the site, not `slow`)
-7. pythons     the library's tests on Python 3.12 but those marked ``heavy`` (run here by the
+4. site        pytest on the built site: no external resources, headless-Chromium check; the
+               browser check also prints the site as one PDF (tools/pdf_book.py's Printer) from
+               the pages it has loaded and checked
+5. library     pytest on the library and the repository (not the site, not `slow`)
+6. pythons     the library's tests on Python 3.12 but those marked ``heavy`` (run here by the
                library stage; ``make test-pythons`` runs them all on 3.12 and 3.13)
-8. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
-9. student     three downloaded notebooks run offline in a fresh Python 3.12
+7. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
+8. student     three downloaded notebooks run offline in a fresh Python 3.12
                (tools/student_path.py)
 
 Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
@@ -29,14 +32,15 @@ be skipped.
 
 The stages after ruff run on two workers (one per core of the 2-core machine), each worker
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
-then the site build after both and the PDF and the browser check after it, while the library
-stage takes the other worker; the short stages come last, to fill the end. The library
+then the site build after both and the browser check (with the PDF) after it, while the
+library stage takes the other worker; the short stages come last, to fill the end. The library
 stage's registry-entry tests read the entries from the run's compute cache too
 (``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of computing them again.
 Output goes to ``_build/test-reports/<stage>.log`` and is printed
 whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
 process tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
-Chromium's renderers when the browser closes, so the pdf and site stages count too little).
+Chromium's renderers when the browser closes, so the site stage counts too little; the forked
+kernels are reaped by their warm process and count).
 ``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order, nbval in one
 shard.
 
@@ -62,6 +66,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
 from build_book import bytecode_env  # noqa: E402
+from kernel_fork import KERNEL_NAME  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -237,6 +242,8 @@ def main() -> int:
     fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
     pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
     site = ROOT / "_build" / "fast" / "_build" / "html"
+    pdf = site.parent / "pdf" / "book.pdf"  # printed by the browser check (tests/site)
+    pdf.unlink(missing_ok=True)  # the pdf tests never read an earlier run's
     t0 = time.perf_counter()
     parallel = os.environ.get("FUSIONCENTER_TEST_LANES", "2") != "1"
 
@@ -253,7 +260,7 @@ def main() -> int:
     def nbval(k: int, notebooks: list[str]) -> Job:
         name, xml = f"nbval {k}", REPORTS / f"nbval-{k}.xml"
         return Job(name, lambda: run(
-            name, [*pytest, "--nbval", "--nbval-current-env", "--nbval-sanitize-with",
+            name, [*pytest, "--nbval", "--nbval-kernel-name", KERNEL_NAME, "--nbval-sanitize-with",
                    "tests/golden/sanitize.cfg", *notebooks, f"--junitxml={xml}"],
             junit=xml, env=shared, log=parallel))
 
@@ -264,12 +271,11 @@ def main() -> int:
             "site build", [PY, "tools/build_book.py", "--profile", "fast", "--strict",
                            "--compute-cache", str(cache), "--executed", str(executed)],
             log=parallel), after=tuple(f"nbval {k}" for k in range(1, len(shards) + 1))),
-        Job("pdf", lambda: run("pdf", [PY, "tools/pdf_book.py", "--site", str(site)],
-                               log=parallel), after=("site build",)),
         Job("site", lambda: run(
             "site", [*pytest, "tests/site", "-m", "site", "--ignore=tests/site/test_pdf.py",
                      f"--junitxml={REPORTS / 'site.xml'}"],
-            junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
+            junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site),
+                                              "FUSIONCENTER_PDF_OUT": str(pdf)},
             skips_fail=True, log=parallel), after=("site build",)),
         Job("library", lambda: run(
             "library", [*pytest, "-p", "no:nbval", "tests", "-m", "not site and not slow",
@@ -283,7 +289,7 @@ def main() -> int:
             "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
                           f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
             junit=REPORTS / "pdf-tests.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
-            skips_fail=True, log=parallel), after=("pdf",)),
+            skips_fail=True, log=parallel), after=("site",)),
         Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
                                    log=parallel), after=("site build",)),
     ]

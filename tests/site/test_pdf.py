@@ -1,7 +1,8 @@
 """The whole book as one PDF (tools/pdf_book.py): ``<site>/../pdf/book.pdf``.
 
-Written by ``make pdf`` (paper site) or the ``pdf`` stage of ``make test`` (fast site). A missing
-PDF is a failure, not a skip.
+Written by ``make pdf`` (paper site) or, in ``make test`` (fast site), by the browser check of
+the ``site`` stage from the pages it checks (the same ``pdf_book.Printer``). A missing PDF is a
+failure, not a skip.
 """
 
 from __future__ import annotations

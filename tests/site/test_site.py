@@ -207,16 +207,26 @@ def _load_browser_check():
     return module
 
 
+#: ``make test``: print the book's PDF there from the browser check's page loads
+PDF_OUT = "FUSIONCENTER_PDF_OUT"
+
+
 def test_browser_check(site: Path, capsys) -> None:
     browser_check = _load_browser_check()
     lines: list[str] = []
+    printer = None
+    if os.environ.get(PDF_OUT, "").strip():
+        sys.path.insert(0, str(ROOT / "tools"))
+        from pdf_book import Printer
+
+        printer = Printer(site, Path(os.environ[PDF_OUT]))
 
     def log(line: str) -> None:
         print(line)
         lines.append(line)
 
     problems = browser_check.check_site(site, min_pages=8, min_math_pages=3, min_images=2,
-                                        log=log)
+                                        log=log, printer=printer)
     with capsys.disabled():  # the totals are printed whether the check passes or not
         totals = [y for x in lines if not x.startswith(("PASS ", "FAIL ", " "))
                   for y in x.splitlines()]
