@@ -39,13 +39,6 @@ HEAVY = (
     "test_censoring_vector.py::test_printed_proposition6_does_not_sum_to_one",
     "test_context.py::test_data_are_bitwise_identical_under_every_executor",
     "test_cli_claims.py::test_module_entry_point_exit_codes",
-    "test_censoring_compare.py::test_payoff_claims_fail_on_corrupted_data",
-    "test_figures_zheng2014.py::test_paper_table_values_are_the_printed_ones",
-    "test_figures_zheng2014_vector.py::test_entry_computes_plots_and_passes",
-    "test_figures_zheng2014_nonlinear.py::test_entry_computes_plots_and_passes",
-    "test_synthesis.py::test_fading_fails_when_errors_do_not_grow",
-    "test_synthesis.py::test_frontier_compute_is_seeded_and_paired",
-    "test_figures_mo2015.py::test_tracking_check_fails_on_a_missed_rate",
 )
 
 
