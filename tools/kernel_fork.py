@@ -6,7 +6,12 @@
 Every chapter of the book starts a new kernel, and before its first result each one imports
 IPython and ipykernel, NumPy, SciPy, SymPy, numba, matplotlib and the library: 2 to 6 s of CPU
 per chapter on this 2-core machine. nbval on the 29 reference notebooks, one process on an idle
-machine: 282 s (286 s CPU) with new processes, 208 s (208 s CPU) with forked kernels.
+machine: 282 s (286 s CPU) with new processes, 208 s (208 s CPU) with forked kernels. In
+``make test`` from a fresh clone (two shards side by side on two cores, a cold bytecode and
+numba cache) the gain is smaller: 160 and 163 s against 175 s and a failed shard for the tree
+before, run back to back. There the warm process also takes the first imports out of the
+kernels' 60 s start-up deadline; the tree before lost a shard's first kernel that way once
+("Kernel died before replying to kernel_info").
 
 ``serve`` imports those once (:data:`PRELOAD`) and waits on a Unix socket; ``launch`` is the
 kernel command of the kernelspec :data:`KERNEL_NAME`: a small process that hands its connection
