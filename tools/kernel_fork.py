@@ -51,6 +51,8 @@ import time
 from pathlib import Path
 
 KERNEL_NAME = "fusioncenter-fork"
+#: ipykernel's default backend (IPKernelApp.init_gui_pylab sets it unless MPLBACKEND is set)
+INLINE = "module://matplotlib_inline.backend_inline"
 SOCKET_ENV = "FUSIONCENTER_KERNEL_FORK"
 #: set for each kernel (by jupyter_client, by pytest for the test that starts it, by the
 #: terminal size): no module reads them when it is imported, only when it is called
@@ -103,13 +105,12 @@ def serve(path: str, preload: list[str] = PRELOAD) -> None:
     # IPKernelApp.init_path puts '' back)
     if sys.path and os.path.abspath(sys.path[0]) == os.path.dirname(os.path.abspath(__file__)):
         del sys.path[0]
-    # ipykernel's own default (IPKernelApp.init_gui_pylab), before matplotlib reads it
-    if not os.environ.get("MPLBACKEND"):
-        os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+    os.environ["MPLBACKEND"] = os.environ.get("MPLBACKEND") or INLINE  # before matplotlib
     for name in preload:
         importlib.import_module(name)
     if threading.active_count() != 1:
         raise RuntimeError(f"kernel_fork: the preload started threads: {threading.enumerate()}")
+
     def reap(_signum, _frame):  # at once, so that a kernel's CPU time counts as this tree's
         try:
             while os.waitpid(-1, os.WNOHANG)[0] > 0:
@@ -164,9 +165,7 @@ def _become_kernel(conn: socket.socket, fds: list[int], req: dict) -> None:
         conn.close()
         os.chdir(req["cwd"])
         os.environ.clear()
-        os.environ.update(req["env"])
-        if not req["env"].get("MPLBACKEND"):
-            os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
+        os.environ.update(req["env"], MPLBACKEND=req["env"].get("MPLBACKEND") or INLINE)
         import importlib.util
 
         # argv[0] as `python -m ipykernel_launcher` has it
