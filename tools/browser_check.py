@@ -312,6 +312,11 @@ def check_site(
                 parser = _MathCounter()
                 parser.feed(path.read_text(encoding="utf-8", errors="replace"))
                 res.math_expected = parser.count
+                if page.viewport_size != VIEWPORT:
+                    # every page loads at 1280 px (the theme lays a page loaded at 400 px out
+                    # differently at 1280 px); resized on a blank page, which costs nothing
+                    page.goto("about:blank")
+                    page.set_viewport_size(VIEWPORT)
                 current["page"] = res
                 fonts.clear()
                 try:
@@ -319,16 +324,29 @@ def check_site(
                 except PlaywrightError as exc:
                     res.problems.append(f"page {rel}: browser error: "
                                         f"{str(exc).strip().splitlines()[0]}")
-                for viewport in (LAYOUT_VIEWPORTS if parser.refresh_target is None else ()):
-                    try:
-                        layout = check_layout(page, rel, viewport)
-                    except PlaywrightError as exc:
-                        layout = LayoutResult(rel, width=viewport["width"])
-                        res.problems.append(f"page {rel}: layout not measured at "
-                                            f"{viewport['width']} px: "
-                                            f"{str(exc).strip().splitlines()[0]}")
-                    layouts.append(layout)
-                    res.problems += layout.problems()
+                if parser.refresh_target is None:
+                    # 1280 px, then 400 px: one resize of the page (each resize lays the whole
+                    # page out again: the 112 of measuring each figure and layout at a window
+                    # and resizing back took 25 s of 150)
+                    measured: dict[int, LayoutResult] = {}
+                    shown: dict[int, list] = {}
+                    for viewport in LAYOUT_VIEWPORTS:
+                        try:
+                            if page.viewport_size != viewport:
+                                page.set_viewport_size(viewport)
+                            measured[viewport["width"]] = check_layout(page, rel, viewport)
+                            shown[viewport["width"]] = page.evaluate(_FIGURES_JS)
+                        except PlaywrightError as exc:
+                            measured.setdefault(viewport["width"],
+                                                LayoutResult(rel, width=viewport["width"]))
+                            res.problems.append(f"page {rel}: layout not measured at "
+                                                f"{viewport['width']} px: "
+                                                f"{str(exc).strip().splitlines()[0]}")
+                    for viewport in LAYOUT_VIEWPORTS:
+                        layouts.append(measured[viewport["width"]])
+                        res.problems += measured[viewport["width"]].problems()
+                    check_registry_figures(res, shown.get(FIGURE_VIEWPORT["width"], []),
+                                           shown.get(NARROW_VIEWPORT["width"], []))
                 doc = rel.removesuffix(".html")
                 if printer is not None and parser.refresh_target is None and printer.wants(doc):
                     try:
@@ -410,7 +428,6 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
         if not img["ok"]:
             res.problems.append(f"page {res.path}: image did not load: {img['src']}")
 
-    check_registry_figures(page, res)
     if not res.math_expected:
         return
     # If a MathJax file already failed to load, do not wait the full timeout for it.
@@ -610,14 +627,15 @@ def _at(page, viewport: dict, js):
             page.set_viewport_size(before)
 
 
-def check_registry_figures(page, res) -> None:
-    """Each registry figure at a 1280 px window: numbered, alt text, linked to its full
-    resolution, its data downloadable, every panel >= MIN_PANEL_PX wide and its smallest font
-    >= MIN_FONT_PX as displayed (font pt x dpi/72 x displayed/natural width). At a 400 px
-    window (NARROW_VIEWPORT) the same sizes, the image wider than the column then scrolling
-    sideways in its own box inside the column."""
-    found = _at(page, FIGURE_VIEWPORT, _FIGURES_JS)
-    narrow = {f["id"]: f for f in _at(page, NARROW_VIEWPORT, _FIGURES_JS)} if found else {}
+def check_registry_figures(res, found: list[dict], narrow: list[dict]) -> None:
+    """Each registry figure at a 1280 px window (``found``, :data:`_FIGURES_JS` evaluated at
+    FIGURE_VIEWPORT): numbered, alt text, linked to its full resolution, its data downloadable,
+    every panel >= MIN_PANEL_PX wide and its smallest font >= MIN_FONT_PX as displayed (font pt
+    x dpi/72 x displayed/natural width). At a 400 px window (``narrow``, at NARROW_VIEWPORT) the
+    same sizes, the image wider than the column then scrolling sideways in its own box inside
+    the column. Both are measured with every collapsed block open (after :func:`check_layout`
+    at that window)."""
+    narrow = {f["id"]: f for f in narrow}
     if found:
         FIGURE_STATS["pages"] += 1
     for f in found:
