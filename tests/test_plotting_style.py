@@ -110,7 +110,7 @@ def test_registry_figure_uses_the_visual_language(entry_id):
     fig = figures.get(entry_id).run_plot(cached_data(entry_id))
     try:
         assert styled_violations(fig) == []
-        fig.canvas.draw()
+        png, facts = plotting.render(fig)  # lays the figure out as the page shows it
         renderer = fig.canvas.get_renderer()
         for ax in fig.get_axes():
             leg = ax.get_legend()
@@ -118,7 +118,6 @@ def test_registry_figure_uses_the_visual_language(entry_id):
                 continue
             a, b = ax.get_window_extent(renderer), leg.get_window_extent(renderer)
             assert not a.overlaps(b), f"{entry_id}: a legend sits on the data of {ax.get_title()}"
-        png, facts = plotting.render(fig)
         assert facts["columns"] == 1, f"{entry_id}: panels side by side"
         assert facts["min_font_pt"] >= plotting.MIN_FONT_PT
         # at a 700 px text column, the narrowest data area is >= 500 px, fonts >= 11 px

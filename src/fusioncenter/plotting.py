@@ -471,7 +471,8 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure (normally finished by :func:`finish`); it is drawn.
+        The figure (normally finished by :func:`finish`); it is laid out (without rasterising:
+        the facts need the layout only) and drawn once into the PNG.
     dpi : int, default 200
         Resolution of the PNG (:data:`SAVE_DPI`).
 
@@ -484,7 +485,7 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
         ``columns`` (panels side by side, at most), ``panel_fraction`` (narrowest data area of
         a panel as a fraction of the image width), ``min_font_pt`` (smallest text).
     """
-    fig.canvas.draw()
+    fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     bbox = fig.get_tightbbox(renderer)
     pad = 0.1  # inches, matplotlib's default pad_inches
