@@ -869,10 +869,12 @@ def test_run_dispatches_part_iv_b_scenarios(module, cls):
 
 
 # ----------------------------------------------------------------------------- tails (issue 17)
-def _mp_log_rect(l1, u1, l2, u2, rho, dps=30):
+def _mp_log_rect(l1, u1, l2, u2, rho, dps=20):
     """``log P(l1 < X < u1, l2 < Y < u2)`` by mpmath: the integral of ``phi(x)`` times the
     conditional interval probability of ``Y`` (reflected into the lower tail, no cancellation),
-    split at points clustered around the integrand's mode."""
+    split at points clustered around the integrand's mode. 20 digits: the 29 references of the
+    tests below agree with 30-digit ones to 3e-14 relative (the tests ask 1e-10), in half the
+    time."""
     mp = mpmath
 
     with mp.workdps(dps):
