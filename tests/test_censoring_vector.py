@@ -34,18 +34,18 @@ def test_threshold_is_the_chi2_m_quantile(l, N):
 # ----------------------------------------------------------------------------- the probability
 def _mp_isotropic(a, r):
     """log P(|u| < a), u ~ N((r, 0), I): mpmath, split quadrature (exact to ~1e-15)."""
-    mp.mp.dps = 40
-    f = lambda rho: rho * mp.e ** (-(rho - r) ** 2 / 2 - rho * r) * mp.besseli(0, rho * r)  # noqa: E731
-    return float(mp.log(mp.quad(f, mp.linspace(0, a, 200))))
+    with mp.workdps(40):  # this reference's precision only, not the other tests'
+        f = lambda rho: rho * mp.e ** (-(rho - r) ** 2 / 2 - rho * r) * mp.besseli(0, rho * r)  # noqa: E731
+        return float(mp.log(mp.quad(f, mp.linspace(0, a, 200))))
 
 
 def _mp_theta(b1, b2, a1, a2):
     """The theta integral of the module docstring in mpmath (an independent evaluation)."""
-    mp.mp.dps = 20
     b2 = abs(b2)
-    f = lambda th: (a1 * mp.cos(th) * mp.npdf(a1 * mp.sin(th) - b1)  # noqa: E731
-                    * (mp.ncdf(a2 * mp.cos(th) - b2) - mp.ncdf(-a2 * mp.cos(th) - b2)))
-    return float(mp.log(mp.quad(f, mp.linspace(-mp.pi / 2, mp.pi / 2, 40))))
+    with mp.workdps(20):
+        f = lambda th: (a1 * mp.cos(th) * mp.npdf(a1 * mp.sin(th) - b1)  # noqa: E731
+                        * (mp.ncdf(a2 * mp.cos(th) - b2) - mp.ncdf(-a2 * mp.cos(th) - b2)))
+        return float(mp.log(mp.quad(f, mp.linspace(-mp.pi / 2, mp.pi / 2, 40))))
 
 
 @pytest.mark.parametrize("sigma2", [0.3, 1.0, 2.5])
