@@ -42,7 +42,7 @@ PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14m
 
 # Print styles on top of the theme's own print CSS: nothing clipped, nothing collapsed. They
 # apply to the print only (``@media print``): added to the page as it is on screen, they cost
-# no relayout of the screen page (emulating print media first, and the screen after, took 22 s
+# no relayout of the screen page (emulating print media first, and the screen after, took 21 s
 # of the 76 s that 16 big pages took to print, for the same pixels).
 PRINT_CSS = """
 @page { size: A4; }
@@ -191,9 +191,10 @@ class Printer:
 
     def add(self, page, doc: str) -> None:
         """Print the page loaded in ``page`` (the site's ``doc``) at whatever window it has:
-        the print is laid out on the paper (the browser check prints from 1280 px and from
-        400 px windows, :func:`build_pdf` from :data:`VIEWPORT`, to the same pixels). The page
-        stays on screen media: :data:`PRINT_CSS` applies to the print alone."""
+        the print is laid out on the paper (the browser check prints from its last window,
+        400 px wide, :func:`build_pdf` from :data:`VIEWPORT`, 1280 px: the 775 pages render to
+        the same pixels). The page stays on screen media: :data:`PRINT_CSS` applies to the
+        print alone."""
         from pypdf import PdfReader
 
         page.add_style_tag(content=PRINT_CSS)
