@@ -7,6 +7,8 @@ import threading
 import time
 from pathlib import Path
 
+import pytest
+
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tools"))
 import run_tests  # noqa: E402
 
@@ -83,3 +85,28 @@ def test_figure_helpers_read_the_runs_shared_cache(tmp_path, monkeypatch):
         figure_helpers.cached_data.cache_clear()
     monkeypatch.delenv(figure_helpers.SHARED_CACHE)
     assert "stored by" not in figure_helpers.cached_data(entry.id)
+
+
+def test_nbval_shards_cover_every_notebook_once_in_the_asked_ratio():
+    from chapters import golden_path, notebook_chapters
+
+    every = sorted(str(golden_path(d).relative_to(run_tests.ROOT)) for d in notebook_chapters())
+
+    def seconds(path):
+        doc = Path(path).stem.replace("__", "/")
+        return run_tests.NBVAL_SECONDS.get(doc, run_tests.DEFAULT_SECONDS)
+
+    for n, shares in ((1, None), (2, None), (2, (0.5, 0.5)), (3, None)):
+        shards = run_tests.nbval_shards(n, shares)
+        assert sorted(p for s in shards for p in s) == every  # each exactly once
+        for gathering in run_tests.GATHERING:
+            path = str(golden_path(gathering).relative_to(run_tests.ROOT))
+            assert any(s[-1] == path for s in shards)  # last in its shard
+        if n == 2:
+            a, b = (sum(map(seconds, s)) for s in shards)
+            want = run_tests.SHARD_1_SHARE if shares is None else 0.5
+            assert abs(a / (a + b) - want) < 0.03, (a, b)
+    with pytest.raises(ValueError, match="shares"):
+        run_tests.nbval_shards(2, (1.0,))
+    with pytest.raises(ValueError, match="shares"):
+        run_tests.nbval_shards(2, (1.0, 0.0))

@@ -4,8 +4,8 @@ Stages (all run; the exit code is 1 if any failed):
 
 1. ruff        lint of src/, tests/, tools/, benchmarks/, book/_ext/
 2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
-               two shards of about equal execution time (:func:`nbval_shards`), each kernel
-               forked from a process that has imported the chapters' libraries
+               two shards, the first longer (:func:`nbval_shards`, :data:`SHARD_1_SHARE`),
+               each kernel forked from a process that has imported the chapters' libraries
                (tools/kernel_fork.py; a kernel whose environment differs starts anew)
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
 4. site        pytest on the built site: no external resources, headless-Chromium check; the
@@ -184,39 +184,51 @@ def schedule(jobs: list[Job], workers: int) -> list[Stage]:
     return [done[j.name] for j in jobs]
 
 
-#: Seconds of each chapter's execution in the fast profile, registry entries included (the
-#: strict site build of a fresh ``make test``, 2 lanes, issue 16): what :func:`nbval_shards`
-#: balances. A chapter missing here counts as :data:`DEFAULT_SECONDS`.
-FAST_SECONDS = {
-    "book/zheng2014/vector": 43, "book/zheng2014/results": 38, "book/zheng2014/nonlinear": 28,
-    "book/synthesis/one-problem": 28, "book/zheng2014/likelihood": 26,
-    "book/mo2015/event-kf": 22, "book/mo2015/derivation": 21, "book/leong2011/asymptotics": 19,
-    "book/dey2009/vector": 18, "book/dey2009/multisensor": 18, "book/leong2011/allocation": 17,
-    "book/leong2011/fading": 17, "book/dey2009/random-riccati": 16, "book/mo2015/rate": 14,
-    "book/background/kalman-riccati": 13, "book/dey2009/scalar-bounds": 13,
-    "book/zheng2014/particle-filter": 13, "book/zheng2014/censoring-kl": 13,
-    "book/dey2009/distribution": 11, "book/leong2011/steady-state": 11,
-    "book/mo2015/trigger": 10, "book/mo2015/conditional-mean": 9, "book/zheng2014/reading": 7,
+#: Seconds of each reference notebook under nbval, kernel and registry entries included (the
+#: mean of two fresh ``make test`` runs, 2 lanes, issue 16): what :func:`nbval_shards` splits.
+#: A chapter missing here counts as :data:`DEFAULT_SECONDS`.
+NBVAL_SECONDS = {
+    "book/zheng2014/vector": 19, "book/zheng2014/results": 19, "book/zheng2014/nonlinear": 18,
+    "book/synthesis/one-problem": 18, "book/zheng2014/likelihood": 16,
+    "book/mo2015/derivation": 14, "book/mo2015/event-kf": 13, "book/leong2011/allocation": 12,
+    "book/dey2009/multisensor": 12, "book/dey2009/random-riccati": 11, "book/dey2009/vector": 11,
+    "book/leong2011/asymptotics": 11, "book/zheng2014/particle-filter": 9,
+    "book/leong2011/fading": 9, "book/mo2015/rate": 9, "book/background/kalman-riccati": 8,
+    "book/zheng2014/censoring-kl": 8, "book/leong2011/steady-state": 7,
+    "book/dey2009/scalar-bounds": 7, "book/dey2009/distribution": 7, "book/mo2015/trigger": 6,
+    "book/mo2015/conditional-mean": 5, "book/zheng2014/reading": 4,
 }
-DEFAULT_SECONDS = 4
+DEFAULT_SECONDS = 1
 #: Chapters that gather other chapters' registry entries: last in their shard, so that the
 #: entries are in the run's compute cache (or being computed, under its lock) by then.
 GATHERING = ("book/zheng2014/reading",)
+#: With two lanes, shard 1's share of the execution time. The worker whose shard ends first
+#: takes the library stage and then the 3.12 tests (344 s in a fresh ``make test``); the other
+#: takes the site build (it waits for both shards), the browser check with the PDF, the pdf
+#: tests and the student's path (312 s). Equal shards (140 s and 140 s) left the second worker
+#: ending 32 s after the first (484 s against 452 s); shard 1 longer by that much (0.56 of
+#: 280 s) lets both end together, about 16 s sooner.
+SHARD_1_SHARE = 0.56
 
 
-def nbval_shards(n: int) -> list[list[str]]:
-    """The reference notebooks split into ``n`` lists of about equal execution time (longest
-    first, each to the list with the least so far), every gathering chapter at the end."""
+def nbval_shards(n: int, shares: tuple[float, ...] | None = None) -> list[list[str]]:
+    """The reference notebooks split into ``n`` lists whose execution times are in the ratio
+    ``shares`` (default: equal; :data:`SHARD_1_SHARE` for two): longest first, each to the list
+    furthest below its share so far; every gathering chapter at the end."""
     from chapters import golden_path, notebook_chapters
 
+    if shares is None:
+        shares = (SHARD_1_SHARE, 1 - SHARD_1_SHARE) if n == 2 else (1.0,) * max(1, n)
+    if len(shares) != max(1, n) or min(shares) <= 0:
+        raise ValueError(f"shares must be {max(1, n)} positive numbers, got {shares!r}")
     docs = sorted(notebook_chapters(), key=lambda d: (d in GATHERING,
-                                                      -FAST_SECONDS.get(d, DEFAULT_SECONDS)))
-    shards: list[list[str]] = [[] for _ in range(max(1, n))]
+                                                      -NBVAL_SECONDS.get(d, DEFAULT_SECONDS)))
+    shards: list[list[str]] = [[] for _ in shares]
     load = [0.0] * len(shards)
     for doc in docs:
-        k = load.index(min(load))
+        k = min(range(len(shards)), key=lambda i: load[i] / shares[i])
         shards[k].append(str(golden_path(doc).relative_to(ROOT)))
-        load[k] += FAST_SECONDS.get(doc, DEFAULT_SECONDS)
+        load[k] += NBVAL_SECONDS.get(doc, DEFAULT_SECONDS)
     return [s for s in shards if s]
 
 
