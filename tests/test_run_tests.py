@@ -90,11 +90,11 @@ def test_figure_helpers_read_the_runs_shared_cache(tmp_path, monkeypatch):
 def test_nbval_shards_cover_every_notebook_once_in_the_asked_ratio():
     from chapters import golden_path, notebook_chapters
 
-    every = sorted(str(golden_path(d).relative_to(run_tests.ROOT)) for d in notebook_chapters())
+    doc_of = {str(golden_path(d).relative_to(run_tests.ROOT)): d for d in notebook_chapters()}
+    every = sorted(doc_of)
 
     def seconds(path):
-        doc = Path(path).stem.replace("__", "/")
-        return run_tests.NBVAL_SECONDS.get(doc, run_tests.DEFAULT_SECONDS)
+        return run_tests.NBVAL_SECONDS.get(doc_of[path], run_tests.DEFAULT_SECONDS)
 
     for n, shares in ((1, None), (2, None), (2, (0.5, 0.5)), (3, None)):
         shards = run_tests.nbval_shards(n, shares)
