@@ -15,7 +15,8 @@ help:
 	@echo "make bench      run benchmarks/ and print medians and ratios"
 	@echo "make lab        open the chapters as notebooks in JupyterLab (.md opens as a notebook)"
 	@echo "make pdf        the whole book as one PDF -> _build/pdf/book.pdf (builds the site if missing)"
-	@echo "make test-pythons  every library test (the heavy ones too) on Python 3.12 and 3.13 (pyenv)"
+	@echo "make test-pythons  every library test (the heavy ones too) on Python 3.12 and 3.13 (pyenv);"
+	@echo "                   PYTHONS=\"--quick 3.12\" (what CI runs after make test): 3.12, not the heavy ones"
 	@echo "make test-student  downloaded notebooks run offline in a fresh Python 3.12 (needs the fast build)"
 	@echo "make lock       re-resolve requirements/requirements.in into requirements/lock.txt"
 	@echo "make clean      remove _build"
@@ -51,8 +52,10 @@ pdf: venv
 	@test -f _build/html/index.html || $(PY) tools/build_book.py --profile paper
 	@$(PY) tools/pdf_book.py --site _build/html --out _build/pdf/book.pdf
 
+# PYTHONS: tools/test_pythons.py's arguments (versions, --quick); empty: every test on 3.12 and 3.13
+PYTHONS ?=
 test-pythons: venv
-	@$(PY) tools/test_pythons.py
+	@$(PY) tools/test_pythons.py $(PYTHONS)
 
 test-student: venv
 	@test -f _build/fast/_build/html/index.html || $(PY) tools/build_book.py --profile fast --strict

@@ -34,6 +34,16 @@ def test_ci_runs_the_readme_test_command():
     assert "apt-get install" in ci and "chromium" in ci
 
 
+def test_ci_runs_the_library_tests_on_another_python():
+    """make test runs every test on 3.11; the other Python's run lives in CI (issue 14)."""
+    workflow = (ROOT / ".github/workflows/book.yml").read_text()
+    for text in ((ROOT / ".ci/run").read_text(), workflow):
+        line = next(ln for ln in text.splitlines() if "make test-pythons" in ln
+                    and not ln.lstrip().startswith("#"))
+        assert re.search(r'PYTHONS="[^"]*\b3\.1[23]\b', line), line
+        assert text.index(line) > text.index("make test\n")  # after make test
+
+
 def test_lock_pins_jupyter_book_1_and_every_extension():
     pins = _lock()
     assert pins["jupyter-book"].startswith("1.")
