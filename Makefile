@@ -10,13 +10,14 @@ PY := $(VENV)/bin/python
 help:
 	@echo "make book       build the site (paper profile) into _build/html"
 	@echo "make book-student  the student edition (no solutions) into _build/student/_build/html"
-	@echo "make test       ruff, pytest, strict nbval, strict site build (fast), browser check"
+	@echo "make test       ruff, pytest, strict nbval, strict site build (fast), browser check, PDF"
+	@echo "                WITH=\"pythons student\" (what CI runs): also the library's tests on"
+	@echo "                Python 3.12 and the student's path (downloaded chapters, fresh venv)"
 	@echo "make golden     regenerate tests/golden/*.ipynb from the chapters"
 	@echo "make bench      run benchmarks/ and print medians and ratios"
 	@echo "make lab        open the chapters as notebooks in JupyterLab (.md opens as a notebook)"
 	@echo "make pdf        the whole book as one PDF -> _build/pdf/book.pdf (builds the site if missing)"
-	@echo "make test-pythons  every library test (the heavy ones too) on Python 3.12 and 3.13 (pyenv);"
-	@echo "                   PYTHONS=\"--quick 3.12\" (what CI runs after make test): 3.12, not the heavy ones"
+	@echo "make test-pythons  every library test (the heavy ones too) on Python 3.12 and 3.13 (pyenv)"
 	@echo "make test-student  downloaded notebooks run offline in a fresh Python 3.12 (needs the fast build)"
 	@echo "make lock       re-resolve requirements/requirements.in into requirements/lock.txt"
 	@echo "make clean      remove _build"
@@ -30,8 +31,11 @@ book: venv
 book-student: venv
 	@$(PY) tools/build_book.py --profile paper --edition student
 
+# WITH="pythons student": also the library's tests on Python 3.12 and the student's path, in
+# the same schedule (what CI runs: .ci/run, the GitHub workflow)
+WITH ?=
 test: venv
-	@$(PY) tools/run_tests.py
+	@$(PY) tools/run_tests.py $(if $(strip $(WITH)),--with "$(WITH)")
 
 golden: venv
 	@$(PY) tools/make_golden.py
@@ -52,10 +56,8 @@ pdf: venv
 	@test -f _build/html/index.html || $(PY) tools/build_book.py --profile paper
 	@$(PY) tools/pdf_book.py --site _build/html --out _build/pdf/book.pdf
 
-# PYTHONS: tools/test_pythons.py's arguments (versions, --quick); empty: every test on 3.12 and 3.13
-PYTHONS ?=
 test-pythons: venv
-	@$(PY) tools/test_pythons.py $(PYTHONS)
+	@$(PY) tools/test_pythons.py
 
 test-student: venv
 	@test -f _build/fast/_build/html/index.html || $(PY) tools/build_book.py --profile fast --strict

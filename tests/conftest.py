@@ -4,9 +4,9 @@
 sweeps numerical accuracy against mpmath, or starts a cluster of worker processes: seconds
 each, about three quarters of the library suite's time, and numbers that come from NumPy, SciPy
 and mpmath at the lock's versions. ``make test`` runs every test on the book's Python (3.11);
-CI then runs every test but these on Python 3.12 (``make test-pythons PYTHONS="--quick
-3.12"``, ``tools/test_pythons.py``); ``make test-pythons`` alone runs all of them on 3.12 and
-3.13. The list names test functions (every parametrization of one is marked);
+CI's ``make test WITH="pythons student"`` also runs every test but these on Python 3.12
+(``tools/test_pythons.py --quick``); ``make test-pythons`` runs all of them on 3.12 and 3.13.
+The list names test functions (every parametrization of one is marked);
 ``tests/test_run_tests.py`` checks that each names a test function that exists, so the list
 cannot go stale silently.
 """

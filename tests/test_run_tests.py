@@ -110,3 +110,15 @@ def test_nbval_shards_cover_every_notebook_once_in_the_asked_ratio():
         run_tests.nbval_shards(2, (1.0,))
     with pytest.raises(ValueError, match="shares"):
         run_tests.nbval_shards(2, (1.0, 0.0))
+
+
+def test_optional_stages_are_named_or_refused(capsys):
+    assert run_tests._optional([]) == set()
+    assert run_tests._optional(["--with=student"]) == {"student"}
+    assert run_tests._optional(["--with", "pythons,student"]) == {"pythons", "student"}
+    with pytest.raises(ValueError, match="--with: unknown stage"):
+        run_tests._optional(["--with", "pythons docs"])
+    with pytest.raises(ValueError, match="unknown argument '--fast'"):
+        run_tests._optional(["--fast"])
+    assert run_tests.main(["--with", "docs"]) == 2  # refused before any stage starts
+    assert "optional stages are ['pythons', 'student']" in capsys.readouterr().err

@@ -1,5 +1,7 @@
 """Run every test of the project (``make test``) and print one summary line with counts.
 
+    python tools/run_tests.py [--with pythons,student]
+
 Stages (all run; the exit code is 1 if any failed):
 
 1. ruff        lint of src/, tests/, tools/, benchmarks/, book/_ext/
@@ -13,13 +15,19 @@ Stages (all run; the exit code is 1 if any failed):
                the pages it has loaded and checked
 5. library     pytest on the library and the repository (not the site, not `slow`)
 6. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
-7. student     three downloaded notebooks run offline in a fresh Python 3.12
-               (tools/student_path.py)
 
-Every test runs here, on the book's Python (3.11). The same library tests on other Pythons are
-``make test-pythons`` (tools/test_pythons.py), which CI runs after this (``.ci/run`` and the
-GitHub workflow: on 3.12, all but those marked ``heavy``), as issue 14 allows; here they cost
-122 s of CPU on the two cores for tests that have already run.
+and, with ``--with`` (``make test WITH="pythons student"``, what ``.ci/run`` and the GitHub
+workflow run), in the same schedule:
+
+7. pythons     the library's tests again on Python 3.12, from the installed wheel, but those
+               marked ``heavy`` (``make test-pythons`` runs them all on 3.12 and 3.13)
+8. student     three downloaded notebooks run offline in a fresh Python 3.12
+               (tools/student_path.py; alone: ``make test-student``)
+
+Every test of the project runs without ``--with``, on the book's Python (3.11). Issue 14 lets
+the other Python's run and the student's path live in a target that CI runs; they are left out
+of the plain ``make test`` because they cost 205 s of CPU (122 + 83 in a fresh run), 100 s on
+the two cores, and ``make test`` is to take at most 7 minutes from a fresh clone (issue 16).
 
 Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
 code, checked by tests/test_golden.py), ``tests/golden/conftest.py`` keeps every notebook whose
@@ -36,7 +44,8 @@ be skipped.
 The stages after ruff run on two workers (one per core of the 2-core machine), each worker
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both and the browser check (with the PDF) after it, while the
-library stage takes the other worker, which then takes the student's path. The library
+library stage takes the other worker (then, with ``--with``, the 3.12 tests; the student's
+path fills the end). The library
 stage's registry-entry tests read the entries from the run's compute cache too
 (``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of computing them again.
 Output goes to ``_build/test-reports/<stage>.log`` and is printed
@@ -206,11 +215,17 @@ DEFAULT_SECONDS = 1
 #: entries are in the run's compute cache (or being computed, under its lock) by then.
 GATHERING = ("book/zheng2014/reading",)
 #: With two lanes, shard 1's share of the execution time. The worker whose shard ends first
-#: takes the library stage (226 s in a fresh ``make test``) and then the student's path (78 s);
-#: the other waits for both shards, then takes the site build, the browser check with the PDF
-#: and the pdf tests (55 + 177 + 8 s). Both end together when shard 1 is longer by the
-#: difference, 64 s of the shards' 253 s: 0.63.
-SHARD_1_SHARE = 0.63
+#: takes the library stage (226 s in a fresh ``make test``); the other waits for both shards,
+#: then takes the site build, the browser check with the PDF and the pdf tests (55 + 177 + 8 s).
+#: The second chain is the longer one even when the shards are equal: equal shards.
+SHARD_1_SHARE = 0.5
+#: The same with ``--with pythons,student``: the library worker then also takes the 3.12 tests
+#: (344 s with the library); the other the site chain and the student's path (312 s). Equal
+#: shards (140 s and 140 s) left the second worker ending 32 s after the first (484 s against
+#: 452 s); shard 1 longer by that much (0.56 of 280 s) lets both end together.
+SHARD_1_SHARE_WITH = 0.56
+#: Stages that run only when asked for (``--with``): CI asks for both.
+OPTIONAL = ("pythons", "student")
 
 
 def nbval_shards(n: int, shares: tuple[float, ...] | None = None) -> list[list[str]]:
@@ -243,7 +258,34 @@ def _on_interrupt(signum: int, stages: list[str]) -> None:
     os._exit(procs.exit_code(signum))
 
 
-def main() -> int:
+def _optional(argv: list[str]) -> set[str]:
+    """The stages ``--with a,b`` (or ``--with "a b"``) asks for; ValueError naming ``--with``
+    on anything else."""
+    wanted: set[str] = set()
+    args = list(argv)
+    while args:
+        arg = args.pop(0)
+        if arg == "--with" and args:
+            value = args.pop(0)
+        elif arg.startswith("--with="):
+            value = arg.split("=", 1)[1]
+        else:
+            raise ValueError(f"unknown argument {arg!r}; usage: run_tests.py "
+                             f"[--with {','.join(OPTIONAL)}]")
+        wanted |= {w for w in value.replace(",", " ").split() if w}
+    unknown = sorted(wanted - set(OPTIONAL))
+    if unknown:
+        raise ValueError(f"--with: unknown stage(s) {unknown}; the optional stages are "
+                         f"{list(OPTIONAL)}")
+    return wanted
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        extra = _optional(sys.argv[1:] if argv is None else argv)
+    except ValueError as exc:
+        print(f"make test: {exc}", file=sys.stderr)
+        return 2
     procs.install_handlers(_on_interrupt)
     REPORTS.mkdir(parents=True, exist_ok=True)
     # matplotlib's font cache of this clone's venv, not the user's: a stale ~/.cache/matplotlib
@@ -278,7 +320,8 @@ def main() -> int:
                    "tests/golden/sanitize.cfg", *notebooks, f"--junitxml={xml}"],
             junit=xml, env=shared, log=parallel))
 
-    shards = nbval_shards(2 if parallel else 1)
+    share = SHARD_1_SHARE_WITH if "pythons" in extra else SHARD_1_SHARE
+    shards = nbval_shards(2, (share, 1 - share)) if parallel else nbval_shards(1)
     jobs = [
         *(nbval(k, nb) for k, nb in enumerate(shards, 1)),
         Job("site build", lambda: run(
@@ -297,6 +340,8 @@ def main() -> int:
                         f"--junitxml={REPORTS / 'library.xml'}"],
             junit=REPORTS / "library.xml", env={**fast, "FUSIONCENTER_TEST_SHARED_CACHE":
                                                  str(cache)}, log=parallel)),
+        Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
+                                   log=parallel)),
         Job("pdf tests", lambda: run(
             "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
                           f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
@@ -305,6 +350,7 @@ def main() -> int:
         Job("student", lambda: run("student", [PY, "tools/student_path.py", "--site", str(site)],
                                    log=parallel), after=("site build",)),
     ]
+    jobs = [j for j in jobs if j.name not in OPTIONAL or j.name in extra]
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                            "book/_ext"])]
     stages += schedule(jobs, 2 if parallel else 1)

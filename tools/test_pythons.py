@@ -9,10 +9,10 @@ repository, so the packaging is what is tested) with its dependencies at the loc
 the library's pytest runs there, from a copy of ``tests/`` outside the source tree so that
 ``fusioncenter`` is the installed one.
 The book, nbval and site tests stay on the book's Python 3.11 (they need the pinned Jupyter Book).
-``--quick`` (what CI runs after ``make test``: ``make test-pythons PYTHONS="--quick 3.12"`` in
-``.ci/run`` and the GitHub workflow) leaves out the tests marked ``heavy`` (registry entries,
-mpmath sweeps, worker clusters: listed in ``tests/conftest.py``), which ``make test`` runs on
-3.11 with every other test; ``make test-pythons`` alone runs every library test.
+``--quick`` (the ``pythons`` stage of CI's ``make test WITH="pythons student"``) leaves out
+the tests marked ``heavy`` (registry entries, mpmath sweeps, worker clusters: listed in
+``tests/conftest.py``), which ``make test`` runs on 3.11 with every other test; ``make
+test-pythons`` runs every library test.
 """
 
 from __future__ import annotations
