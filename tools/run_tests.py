@@ -24,10 +24,11 @@ workflow run), in the same schedule:
 8. student     three downloaded notebooks run offline in a fresh Python 3.12
                (tools/student_path.py; alone: ``make test-student``)
 
-Every test of the project runs without ``--with``, on the book's Python (3.11). Issue 14 lets
-the other Python's run and the student's path live in a target that CI runs; they are left out
-of the plain ``make test`` because they cost 205 s of CPU (122 + 83 in a fresh run), 100 s on
-the two cores, and ``make test`` is to take at most 7 minutes from a fresh clone (issue 16).
+Without ``--with``, every test of the project runs on the book's Python (3.11). Issue 14 lets
+the other Python's run and the student's path live in a target that CI runs; the plain ``make
+test`` leaves them out because they cost 196 s of CPU (122 + 74 in the last fresh run with
+them), about 100 s on the two cores, and ``make test`` is to take at most 7 minutes from a
+fresh clone (issue 16).
 
 Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
 code, checked by tests/test_golden.py), ``tests/golden/conftest.py`` keeps every notebook whose
@@ -45,11 +46,10 @@ The stages after ruff run on two workers (one per core of the 2-core machine), e
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both and the browser check (with the PDF) after it, while the
 library stage takes the other worker (then, with ``--with``, the 3.12 tests; the student's
-path fills the end). The library
-stage's registry-entry tests read the entries from the run's compute cache too
-(``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of computing them again.
-Output goes to ``_build/test-reports/<stage>.log`` and is printed
-whole when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
+path fills the end). The library stage's registry-entry tests read the entries from the run's
+compute cache too (``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of
+computing them again. Output goes to ``_build/test-reports/<stage>.log`` and is printed whole
+when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
 process tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
 Chromium's renderers when the browser closes, so the site stage counts too little; the forked
 kernels are reaped by their warm process and count).
@@ -217,7 +217,7 @@ GATHERING = ("book/zheng2014/reading",)
 #: With two lanes, shard 1's share of the execution time. The worker whose shard ends first
 #: takes the library stage (226 s in a fresh ``make test``); the other waits for both shards,
 #: then takes the site build, the browser check with the PDF and the pdf tests (55 + 177 + 8 s).
-#: The second chain is the longer one even when the shards are equal: equal shards.
+#: That chain is the longer one and it starts after the later shard: equal shards.
 SHARD_1_SHARE = 0.5
 #: The same with ``--with pythons,student``: the library worker then also takes the 3.12 tests
 #: (344 s with the library); the other the site chain and the student's path (312 s). Equal
