@@ -24,7 +24,8 @@ workflow run), in the same schedule:
 8. student     three downloaded notebooks run offline in a fresh Python 3.12
                (tools/student_path.py; alone: ``make test-student``)
 
-Without ``--with``, every test of the project runs on the book's Python (3.11). Issue 14 lets
+Without ``--with``, every test in tests/ and every reference notebook runs, on the book's
+Python (3.11). Issue 14 lets
 the other Python's run and the student's path live in a target that CI runs; the plain ``make
 test`` leaves them out because they cost 196 s of CPU (122 + 74 in the last fresh run with
 them), about 100 s on the two cores, and ``make test`` is to take at most 7 minutes from a
