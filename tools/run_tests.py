@@ -25,11 +25,10 @@ workflow run), in the same schedule:
                (tools/student_path.py; alone: ``make test-student``)
 
 Without ``--with``, every test in tests/ and every reference notebook runs, on the book's
-Python (3.11). Issue 14 lets
-the other Python's run and the student's path live in a target that CI runs; the plain ``make
-test`` leaves them out because they cost 196 s of CPU (122 + 74 in the last fresh run with
-them), about 100 s on the two cores, and ``make test`` is to take at most 7 minutes from a
-fresh clone (issue 16).
+Python (3.11). Issue 14 lets the other Python's run and the student's path live in a target
+that CI runs; the plain ``make test`` leaves them out because they cost 196 s of CPU (122 + 74
+in the last fresh run with them), about 100 s on the two cores, and ``make test`` is to take
+at most 7 minutes from a fresh clone (issue 16).
 
 Each chapter is executed once: nbval's kernels run the reference notebooks (the chapters'
 code, checked by tests/test_golden.py), ``tests/golden/conftest.py`` keeps every notebook whose
