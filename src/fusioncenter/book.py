@@ -11,8 +11,9 @@ from fusioncenter._docstrings import Glossary
 from fusioncenter.glue import glue
 from fusioncenter.profile import ENV_VAR, current_profile
 
-__all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "glue",
-           "markdown_table", "md_table", "min_eig", "pm", "reproduce", "setup", "show"]
+__all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "figure",
+           "glue", "markdown_table", "md_table", "min_eig", "pm", "reproduce", "setup",
+           "show"]
 
 #: Metadata key under which :func:`reproduce` stores what the site's figure directive needs.
 FIGURE_METADATA = "fusioncenter"
@@ -132,6 +133,55 @@ def _show_figure(entry, fig, profile: str, seed: int) -> None:
             "alt": plotting.describe(fig)}
     _display({"image/png": base64.b64encode(png).decode("ascii")},
              {"scrapbook": {"name": entry.id, "mime_prefix": ""}, FIGURE_METADATA: meta})
+
+
+def figure(name: str, fig) -> None:
+    """Show a figure a chapter draws itself as a numbered, captioned figure of the site.
+
+    The chapter draws with :func:`fusioncenter.plotting.subplots` (``stack=True`` for more
+    than one panel), passes the figure here, tags the cell ``remove-output`` and follows it
+    with the site's directive, whose body is the caption::
+
+        ```{book-figure} fig-mo2015-trigger-rate
+        The trigger's rate against its threshold ...
+        ```
+
+    Parameters
+    ----------
+    name : str
+        The figure's label: lowercase letters, digits and hyphens, starting with ``fig-``
+        (``{numref}`` refers to it); unique in the book.
+    fig : matplotlib.figure.Figure
+        The figure; it is finished (:func:`fusioncenter.plotting.finish`: labelled axes,
+        legends outside the data, no text under the smallest font), rendered once as a PNG at
+        :data:`fusioncenter.plotting.SAVE_DPI` with its alt text
+        (:func:`fusioncenter.plotting.describe`), shown, and closed.
+
+    Returns
+    -------
+    None
+        In a notebook the PNG is displayed (an ordinary output in plain Jupyter, glued under
+        ``name`` for the site); outside one nothing is shown.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is not of the form above, or an axis of ``fig`` lacks a label.
+    """
+    import re
+
+    import matplotlib.pyplot as plt
+
+    if not isinstance(name, str) or not re.fullmatch(r"fig-[a-z0-9]+(-[a-z0-9]+)*", name):
+        raise ValueError(f"name must look like 'fig-part-topic' (lowercase letters, digits "
+                         f"and hyphens), got {name!r}")
+    plotting.finish(fig)
+    if _shell() is not None:
+        png, facts = plotting.render(fig)
+        meta = {**facts, "id": name, "alt": plotting.describe(fig)}
+        _display({"image/png": base64.b64encode(png).decode("ascii")},
+                 {"scrapbook": {"name": name, "mime_prefix": ""}, FIGURE_METADATA: meta})
+    plt.close(fig)
 
 
 def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None):
