@@ -203,6 +203,11 @@ class _Rewriter:
             return ["", "*(end of the solution)*"]
         if name in ("bibliography",):
             return []
+        if name == "book-figure":  # the figure is the output of the cell above: its caption
+            number = self.r.number(arg)
+            head, *rest = [*inner, ""] if inner else ["", ""]
+            quoted = [f"> {x}" if x.strip() else ">" for x in rest]
+            return [f"> **Figure {number}.** {head}".replace("  ", " ").rstrip(), *quoted]
         if name == "admonition":
             title = self.inline(arg) or "Note"
         else:
