@@ -205,8 +205,8 @@ class _Rewriter:
             return []
         if name == "book-figure":  # the figure is the output of the cell above: its caption
             number = self.r.number(arg)
-            head, *rest = [*inner, ""] if inner else ["", ""]
-            quoted = [f"> {x}" if x.strip() else ">" for x in rest]
+            head, *rest = inner or [""]
+            quoted = [">", *(f"> {x}" if x.strip() else ">" for x in rest)] if rest else []
             return [f"> **Figure {number}.** {head}".replace("  ", " ").rstrip(), *quoted]
         if name == "admonition":
             title = self.inline(arg) or "Note"
