@@ -39,6 +39,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY, VIEWPORT  # noqa: E402
 from chapters import ROOT  # noqa: E402
 
+#: Pages under this prefix (the API reference's module pages) are printed into api.pdf.
+APPENDIX = "book/api/"
 PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14mm",
                                    "right": "14mm"}}
 
@@ -102,7 +104,12 @@ async () => {
   }
   if (document.fonts && document.fonts.ready) { await document.fonts.ready; }
   const h1 = document.querySelector('article h1, main h1, h1');
-  const title = h1 ? h1.textContent.replace(/[#\\u00b6]/g, '').trim() : document.title;
+  let title = document.title;
+  if (h1) {  // the title without the chapter number the site puts before it
+    const c = h1.cloneNode(true);
+    c.querySelectorAll('.section-number, .fc-pdf-number').forEach(e => e.remove());
+    title = c.textContent.replace(/[#\\u00b6]/g, '').trim();
+  }
   const raw = Array.from(document.querySelectorAll('.math')).filter(el => {
     const c = el.cloneNode(true); c.querySelectorAll('mjx-container').forEach(m => m.remove());
     return /\\$\\$|\\\\\\(|\\\\\\[/.test(c.textContent); }).length;
@@ -136,8 +143,13 @@ TARGETS_JS = """
 # The chapter's sections (``<section id=...><h2>``): bookmarks under the chapter's own; and the
 # chapter's number before its title (the site numbers figures and exercises by chapter).
 SECTIONS_JS = """
-() => Array.from(document.querySelectorAll('article section > h2')).map(h => [
-  h.parentElement.id, h.textContent.replace(/[#\\u00b6]/g, '').trim()]).filter(s => s[0])
+() => Array.from(document.querySelectorAll('article section > h2')).map(h => {
+  const c = h.cloneNode(true);
+  const num = c.querySelector('.section-number');
+  const n = num ? num.textContent.trim().replace(/\\.$/, '') : '';
+  if (num) num.remove();
+  return [h.parentElement.id, n, c.textContent.replace(/[#\\u00b6]/g, '').trim()];
+}).filter(s => s[0])
 """
 NUMBER_JS = """
 (num) => {
@@ -261,9 +273,13 @@ class Printer:
     def __init__(self, site: Path, out: Path) -> None:
         self.site, self.out = site, out
         self.cfg = yaml.safe_load((ROOT / "_config.yml").read_text())
-        self.entries = toc_entries()
+        # the API reference's module pages go to api.pdf: the book keeps its index (a line
+        # per module), so that the reference stays an appendix, not a third of the book
+        self.entries = [e for e in toc_entries() if not e[1].startswith(APPENDIX)]
+        self.appendix = [e for e in toc_entries() if e[1].startswith(APPENDIX)]
         self.numbers = chapter_numbers()
-        missing = [d for _, d in self.entries if not (site / f"{d}.html").exists()]
+        missing = [d for _, d in self.entries + self.appendix
+                   if not (site / f"{d}.html").exists()]
         if missing:
             raise FileNotFoundError(f"pages missing from {site}: {missing}")
         self.printed: dict[str, tuple[str, object]] = {}  # doc -> (title, PdfReader)
@@ -273,7 +289,8 @@ class Printer:
         self.t0 = time.perf_counter()
 
     def wants(self, doc: str) -> bool:
-        return any(d == doc for _, d in self.entries) and doc not in self.printed
+        return (any(d == doc for _, d in self.entries + self.appendix)
+                and doc not in self.printed)
 
     def add(self, page, doc: str) -> None:
         """Print the page loaded in ``page`` (the site's ``doc``) at whatever window it has:
@@ -320,11 +337,30 @@ class Printer:
                 with target.open("wb") as fh:
                     w.write(fh)
 
+    def write_appendix(self, pages, cfg, out: Path) -> None:
+        """The API reference's module pages as one PDF (``api.pdf``), a bookmark each."""
+        from pypdf import PdfWriter
+
+        w = PdfWriter()
+        docs = []
+        for _part, doc, _title, r in pages:
+            docs.append((doc, r, len(w.pages)))
+            for p in r.pages:
+                w.add_page(p)
+        relink(w, destinations(docs), self.origin, cfg.get("html", {}).get("baseurl", ""))
+        for doc, _r, start in docs:
+            w.add_outline_item(title=self.printed[doc][0], page_number=start)
+        w.add_metadata({"/Title": f"{cfg['title']}: API reference",
+                        "/Author": cfg.get("author", "")})
+        w.compress_identical_objects()
+        with out.open("wb") as fh:
+            w.write(fh)
+
     def write(self, page) -> dict:
         """Front matter and page numbers (printed in ``page``), then the whole PDF to ``out``."""
         from pypdf import PdfReader, PdfWriter
 
-        missing = [d for _, d in self.entries if d not in self.printed]
+        missing = [d for _, d in self.entries + self.appendix if d not in self.printed]
         if missing:
             raise RuntimeError(f"pages not printed: {missing}")
         chapters = [(part, doc, *self.printed[doc]) for part, doc in self.entries]
@@ -378,12 +414,11 @@ class Printer:
             num = self.numbers.get(doc)
             mark = writer.add_outline_item(title=f"{num}  {title}" if num else title,
                                            page_number=start - 1, parent=parent)
-            for k, (sid, stitle) in enumerate(self.sections.get(doc, []), start=1):
+            for sid, snum, stitle in self.sections.get(doc, []) if part else []:
                 where = dests[0].get(doc, {}).get(sid)
                 if where is not None:
-                    writer.add_outline_item(
-                        title=f"{num}.{k}  {stitle}" if num else stitle,
-                        page_number=where[0], parent=mark)
+                    writer.add_outline_item(title=f"{snum}  {stitle}" if snum else stitle,
+                                            page_number=where[0], parent=mark)
         for i, p in enumerate(writer.pages):
             p.merge_page(numbers.pages[i])
             p.compress_content_streams()
@@ -394,6 +429,11 @@ class Printer:
         with out.open("wb") as fh:
             writer.write(fh)
         self.write_chapters(chapters, cfg)
+        appendix = [(part, doc, *self.printed[doc]) for part, doc in self.appendix]
+        if appendix:
+            self.write_chapters(appendix, cfg)
+            self.write_appendix(appendix, cfg, self.out.parent / "api.pdf")
+            shutil.copyfile(self.out.parent / "api.pdf", self.site / "api.pdf")
         # the site's download menus link the whole book (book.pdf) and each page's own PDF
         # (_pdf/<page>.pdf, book/_ext/ipynb_download.py): the site carries them
         shutil.copyfile(out, self.site / "book.pdf")
@@ -504,7 +544,7 @@ def build_pdf(site: Path, out: Path) -> dict:
                 executable_path=CHROMIUM, headless=True,
                 args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
             page = browser.new_page(viewport=VIEWPORT)
-            for _part, doc in printer.entries:
+            for _part, doc in printer.entries + printer.appendix:
                 page.goto(f"{base}/{doc}.html", wait_until="load", timeout=60_000)
                 printer.add(page, doc)
             stats = printer.write(page)
