@@ -569,6 +569,8 @@ _OVERFLOW_SELECTOR = ", ".join([
 # Runs in a loaded (and typeset) page; returns the clipped elements and the scrollable code.
 _OVERFLOW_JS = r"""
 async ([selector, scrollClass, boxes]) => {
+  const STATEMENTS = ['theorem', 'lemma', 'proposition', 'corollary', 'definition',
+                      'conjecture', 'criterion'].map(k => 'div.proof.' + k).join(', ');
   document.querySelectorAll('details').forEach(d => { d.open = true; });
   document.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
   await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
@@ -600,7 +602,9 @@ async ([selector, scrollClass, boxes]) => {
     // a formula wider than its line scrolls in its own box (book/_static/wide-math.js): fine
     // at 400 px, clipped at 1280 px (no formula may need it there)
     const wide = inlineMath && el.classList.contains('fc-wide-math');
-    if (wide && boxes) {
+    // a theorem's statement is read without scrolling sideways, on a phone too
+    const statement = el.closest(STATEMENTS);
+    if (wide && boxes && !statement) {
       inBox += 1;
       flagged.push(el);
       continue;
@@ -619,7 +623,7 @@ async ([selector, scrollClass, boxes]) => {
       continue;
     }
     flagged.push(el);
-    const box = boxes ? scrollBox(el) : null;
+    const box = boxes && !statement ? scrollBox(el) : null;
     if (box) {
       const b = box.getBoundingClientRect();
       if (b.right - col.right <= 1 && col.left - b.left <= 1) { inBox += 1; continue; }

@@ -249,7 +249,7 @@ def _numbers_html(n: int, skip: int, heads: dict[int, str] | None = None) -> str
     text), one A4 page each, to be laid over the printed pages."""
     heads = heads or {}
     pages = "".join(
-        f"<div class='p'><b>{html.escape(heads.get(i, ''))}</b>"
+        f"<div class='p'>{f'<b>{html.escape(heads[i])}</b>' if heads.get(i) else ''}"
         f"<span>{i + 1 if i >= skip else ''}</span></div>" for i in range(n))
     return _html_doc(pages, "@page{size:A4;margin:0} body{margin:0} "
                      ".p{height:297mm;width:210mm;position:relative;page-break-after:always;"
