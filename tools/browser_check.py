@@ -609,7 +609,9 @@ async ([selector, scrollClass, boxes]) => {
       flagged.push(el);
       continue;
     }
-    if (inner <= 1 && outer <= 1 && !wide) continue;
+    // in a statement, a wide inline formula counts only if its own box really scrolls
+    const scrolls = wide && statement ? el.scrollWidth - el.clientWidth > 1 : wide;
+    if (inner <= 1 && outer <= 1 && !scrolls) continue;
     const code = el.closest('.' + scrollClass);
     const pre = code && (el.tagName === 'PRE' ? el : el.querySelector('pre'));
     if (code && pre && /^(auto|scroll)$/.test(getComputedStyle(pre).overflowX)) {
