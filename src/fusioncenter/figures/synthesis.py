@@ -206,8 +206,7 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_frontier(data: dict):
-    """Position RMSE against measured transmissions per step: (a) every scheme, on a log
-    scale; (b) a zoom on the schemes that use silence."""
+    """Position RMSE against measured transmissions: (a) every scheme, log scale; (b) a zoom."""
     fig, axes = plotting.subplots(1, 2, stack=True)
     for c, ax in enumerate(axes):
         for key, scheme, name in [("trigger_grid", "trigger",
@@ -309,11 +308,9 @@ register_figure(
     id="synthesis-frontier",
     paper="book",
     caption="The accuracy-communication frontier of one tracking problem (zheng2014 Section "
-    "VII.A, two sensors): the position RMSE (20-step average) against the measured "
-    "transmissions per step of mo2015's stochastic trigger with its exact Kalman filter, "
-    "zheng2014's NIS censoring with CFwMD and CFoMD particle filters, random selection and "
-    "all-send, on the same trials: (a) every scheme, on a log scale; (b) a zoom on the schemes "
-    "that use silence.",
+    "VII.A, two sensors): position RMSE against measured transmissions per step of mo2015's "
+    "trigger (exact Kalman filter), zheng2014's NIS censoring (CFwMD and CFoMD particle filters), "
+    "random selection and all-send, on the same trials: (a) every scheme, log scale; (b) a zoom.",
     chapter=CHAPTER,
     label="sec-synthesis-frontier",
     parameters={**PROBLEM, "l": list(FRONTIER_L), "trigger_rates": list(FRONTIER_GRID),
@@ -377,33 +374,18 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
     }
 
 
-#: The Kalman filter's line in the cost figure: grey and dash-dotted, no scheme's colour.
-_KF_LINE = {"color": "0.35", "linestyle": "-.", "linewidth": 1.6}
-
-
 @plot_doc()
 def plot_cost(data: dict):
-    """Three panels: (a) the operation count, (b) the measured time and (c) the excess RMSE.
-
-    Each scheme has its own colour, marker and line style; where two schemes' counts coincide
-    (CFoMD and all-send: the same particle-filter step), the later curve is drawn dashed on
-    top with its markers offset, and its label says so. The Kalman filter is a grey
-    dash-dotted line (no scheme's colour)."""
+    """(a) Operation count (CFoMD dashed on all-send's equal count), (b) time, (c) excess RMSE."""
     fig, axes = plotting.subplots(1, 3, stack=True)
     ax = axes[0]
     fine = data["particles_fine"]
-    every = max(1, len(fine) // 8)
-    drawn: list[tuple[str, str]] = []
+    same = np.array_equal(data["pf_flops_cfomd"], data["pf_flops_all-send"])
     for k, (s, name) in enumerate((("cfwmd", "CFwMD"), ("all-send", "all-send"),
-                                   ("cfomd", "CFoMD"))):
-        same = [n for t, n in drawn if np.array_equal(data[f"pf_flops_{t}"],
-                                                      data[f"pf_flops_{s}"])]
-        label = f"particle filter, {name}" + (f" (same count as {same[0]})" if same else "")
-        ax.loglog(fine, data[f"pf_flops_{s}"], label=label, zorder=2 + k,
-                  markevery=(k * every // 3, every),
-                  **plotting.look(s, ls="--" if same else "-"))
-        drawn.append((s, name))
-    ax.axhline(data["kf_flops"], label="Kalman filter (any scheme)", **_KF_LINE)
+                                   ("cfomd", "CFoMD" + " (same count as all-send)" * same))):
+        ax.loglog(fine, data[f"pf_flops_{s}"], label=f"particle filter, {name}", zorder=2 + k,
+                  markevery=(2 * k, 6), **plotting.look(s, ls="-" if k < 2 else "--"))
+    ax.axhline(data["kf_flops"], color="0.35", ls="-.", label="Kalman filter (any scheme)")
     ax.set(xlabel="particles $N_s$", ylabel="operations per step and trial (flops)",
            title="(a) operation count (model)")
     ax.legend()
@@ -413,7 +395,7 @@ def plot_cost(data: dict):
               **plotting.look("cfwmd"))
     ax.loglog(p, 1e6 * data["pf_time_allsend"], label="particle filter, all-send",
               **plotting.look("all-send"))
-    ax.axhline(1e6 * data["kf_time"], label="Kalman filter", **_KF_LINE)
+    ax.axhline(1e6 * data["kf_time"], color="0.35", ls="-.", label="Kalman filter")  # grey
     ax.set_xticks(p, [str(int(q)) for q in p], minor=False)
     ax.minorticks_off()
     ax.set(xlabel="particles $N_s$", ylabel="wall time per step and trial (µs)",
@@ -592,8 +574,7 @@ _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 @plot_doc()
 def plot_fading(data: dict):
-    """(a) RMSE and (b) packets against the outage, (c) error against tr P, (d) RMSE at
-    equal energy."""
+    """(a) RMSE, (b) packets against the outage; (c) error over tr P; (d) RMSE at equal energy."""
     fig, axes = plotting.subplots(2, 2, stack=True)
     (a, b), (c, d) = axes
     eps = data["outage"]
@@ -701,11 +682,9 @@ register_figure(
     id="synthesis-fading",
     paper="book",
     caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; a "
-    "packet is lost when the power gain is below a threshold), with a receiver that knows the "
-    "channel gains and a naive one that reads a missing packet as silence: (a) position RMSE "
-    "and (b) packets sent against the outage probability; (c) the Kalman filters' mean squared "
-    "error over their own mean tr P; (d) position RMSE with energy rather than packets as the "
-    "budget.",
+    "packet is lost when the power gain is below a threshold), the receiver knowing the gains or "
+    "naive (a missing packet read as silence): (a) position RMSE and (b) packets sent against the "
+    "outage; (c) Kalman filters' mean squared error over mean tr P; (d) RMSE at equal energy.",
     chapter=CHAPTER,
     label="sec-synthesis-fading",
     parameters={**PROBLEM, "l": FADING_L, "outages": list(OUTAGES), "channel":
