@@ -602,8 +602,8 @@ def entries() -> list[Entry]:
 #: Modules that register entries: the book's own and one per part. Each may list the ids of the
 #: book's own figures it registers in ``OWN_IDS``; every id of ``figures.PAPER_IDS`` must be
 #: registered by one of them (``tests/test_registry_cli.py`` checks the exact set).
-_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014_vector",
-            "zheng2014_nonlinear", "synthesis")
+_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014.vector",
+            "zheng2014.nonlinear", "synthesis")
 _LOADED = False
 
 

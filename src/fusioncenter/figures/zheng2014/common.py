@@ -2,8 +2,8 @@
 
 The scalar entries (:mod:`fusioncenter.figures.zheng2014.linear`,
 :mod:`fusioncenter.figures.zheng2014.choices`), the vector ones
-(:mod:`fusioncenter.figures.zheng2014_vector`) and the nonlinear ones
-(:mod:`fusioncenter.figures.zheng2014_nonlinear`) use these pieces:
+(:mod:`fusioncenter.figures.zheng2014.vector`) and the nonlinear ones
+(:mod:`fusioncenter.figures.zheng2014.nonlinear`) use these pieces:
 
 * the settable parameters (:func:`settable`) and the run sizes they give (:func:`run_size`);
 * the data of a run as curves (:func:`curves`, :func:`stacked`), paired differences

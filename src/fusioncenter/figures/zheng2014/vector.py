@@ -11,8 +11,9 @@
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
 :attr:`~fusioncenter.censoring.vector.VectorScenario.choices`). All runs go through
-:func:`fusioncenter.censoring_vector.run`: for one seed the trials (truth and measurements) are
-shared by every scheme and every ``l`` of an entry, so differences between curves are paired.
+:func:`fusioncenter.censoring.vector_fusion.run`: for one seed the trials (truth and
+measurements) are shared by every scheme and every ``l`` of an entry, so differences between
+curves are paired.
 The paper profile runs the trials on two worker processes (``OPENBLAS_NUM_THREADS=1``).
 
 Data keys (plain NumPy arrays and numbers): see :data:`DATA_KEYS`.
@@ -25,8 +26,8 @@ import functools
 import numpy as np
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_vector as cv
 from fusioncenter import context, plotting
+from fusioncenter.censoring import vector as cv
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.zheng2014 import common  # shared with the scalar entries (Z_* = 4)
