@@ -423,6 +423,11 @@ def log_axis(ax, which: str = "y") -> None:
     which : {"x", "y"}
         The axis.
 
+    Returns
+    -------
+    None
+        The axis of ``ax`` is changed in place.
+
     Raises
     ------
     ValueError
