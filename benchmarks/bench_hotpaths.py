@@ -35,7 +35,7 @@ _SCRIPT = """
 import hashlib, json, pickle, sys, time
 from fusioncenter import censoring as cs
 from fusioncenter.figures import registry
-from fusioncenter.figures import zheng2014_nonlinear as zn
+from fusioncenter.figures.zheng2014 import nonlinear as zn
 cs.run(cs.LinearScenario(), "cfwmd", l=1.0, n_trials=4, n_particles=50, seed=1)  # warm-up
 for s, fb in (("cfwmd", "state"), ("cfwmd", "state+cov"), ("cfomd", "state")):
     cs.run(zn.SCENARIO, s, l=2.0, n_trials=2, n_particles=50, seed=1, feedback=fb)

@@ -25,9 +25,9 @@ import time
 import numpy as np
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_nonlinear as cn
 from fusioncenter import context
-from fusioncenter.figures import zheng2014_nonlinear as zn
+from fusioncenter.censoring import nonlinear as cn
+from fusioncenter.figures.zheng2014 import nonlinear as zn
 
 #: The paper profile's default executor is a pool of one process per core.
 WORKERS = context.cores()

@@ -5,7 +5,7 @@ Groups (the first case of a group is its baseline):
 * ``silent probability, 4096 particles``: ``P(q^T q < eta)`` for the particles of one trial-step
   (the filter's typical cloud at l = 1, N = 2), by the paper's sampling estimate with
   ``N_q = 1000`` draws per particle (relative error ~2 %), by the accurate quadrature
-  (:func:`fusioncenter.censoring_vector.log_censored_probability`, relative error ~1e-13), by
+  (:func:`fusioncenter.censoring.ellipse.log_censored_probability`, relative error ~1e-13), by
   the filter's fixed-ellipse table (error < 1e-6 in the log) and by the per-trial tables of
   CFwMD2 (error < 2e-5).
 * ``filter, 256 trials x 1000 particles x 20 steps``: one block of each configuration of
@@ -29,10 +29,10 @@ import time
 import numpy as np
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_vector as cv
+from fusioncenter.censoring import ellipse, vector, vector_fusion, vector_likelihood
 
 REPEATS = 3
-SC2, SC4 = cv.VectorScenario(), cv.VectorScenario(N=4)
+SC2, SC4 = vector.VectorScenario(), vector.VectorScenario(N=4)
 ETA = cs.threshold(1, 2, dof=2)
 
 
@@ -51,34 +51,35 @@ MEAN_Q, COV_Q = B / A, np.diag(1.0 / A**2)
 
 def sampled():
     rng = np.random.default_rng(2)
-    return cv.censored_probability_sampled(MEAN_Q, COV_Q, 1.0, n_samples=1000, rng=rng)
+    return vector_likelihood.censored_probability_sampled(MEAN_Q, COV_Q, 1.0, n_samples=1000,
+                                                          rng=rng)
 
 
 def quadrature():
-    return cv.log_censored_probability(MEAN_Q, COV_Q, 1.0)
+    return ellipse.log_censored_probability(MEAN_Q, COV_Q, 1.0)
 
 
 def table():
-    return cv.log_silent_table((B[:, 0], B[:, 1]), A)
+    return ellipse.log_silent_table((B[:, 0], B[:, 1]), A)
 
 
 def per_trial_tables():
     b = B.reshape(4, 1024, 2)
     a = np.broadcast_to(A, (4, 2)).copy()
-    return cv.eval_silent(b, a)
+    return ellipse.eval_silent(b, a)
 
 
 def _block(sc, scheme, feedback, l, likelihood="exact"):
     def fn():
-        return cv.run(sc, scheme, l=l, n_trials=256, n_particles=1000, seed=3,
-                      feedback=feedback, likelihood=likelihood)
+        return vector_fusion.run(sc, scheme, l=l, n_trials=256, n_particles=1000, seed=3,
+                                 feedback=feedback, likelihood=likelihood)
     return fn
 
 
 def paper_scale() -> dict:
     """Every vector entry in the paper profile; returns per-entry wall times and memory."""
     from fusioncenter import figures
-    from fusioncenter.figures import zheng2014_vector as zv
+    from fusioncenter.figures.zheng2014 import vector as zv
 
     for f in (zv._fig4_runs, zv._fig5_runs, zv._fig6_runs):
         f.cache_clear()

@@ -853,16 +853,15 @@ def test_fast_log_inside_matches_the_careful_one():
         np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
 
 
-@pytest.mark.parametrize("module, cls", [("censoring_vector", "VectorScenario"),
-                                         ("censoring_nonlinear", "NonlinearScenario")])
-def test_run_dispatches_part_iv_b_scenarios(module, cls):
+@pytest.mark.parametrize("module, cls, runner", [
+    ("vector", "VectorScenario", "vector_fusion"), ("nonlinear", "NonlinearScenario", "nonlinear")])
+def test_run_dispatches_part_iv_b_scenarios(module, cls, runner):
     import importlib
 
-    mod = importlib.import_module(f"fusioncenter.{module}")
-    sc = getattr(mod, cls)()
+    sc = getattr(importlib.import_module(f"fusioncenter.censoring.{module}"), cls)()
     kw = dict(l=2.0, n_trials=3, n_particles=50, seed=11, feedback="state")
     a = cs.run(sc, "cfwmd", **kw)
-    b = mod.run(sc, "cfwmd", **kw)
+    b = importlib.import_module(f"fusioncenter.censoring.{runner}").run(sc, "cfwmd", **kw)
     assert np.array_equal(a.mc.samples, b.mc.samples)
     with pytest.raises(ValueError, match="LinearScenario"):
         cs.run(object(), "cfwmd", **kw)

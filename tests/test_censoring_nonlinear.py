@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from scipy import integrate
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_nonlinear as cn
+from fusioncenter.censoring import nonlinear as cn
 
 SC = cn.NonlinearScenario()
 

@@ -1,5 +1,5 @@
-"""fusioncenter.censoring_vector: the generalized chi-square probability, Propositions 4-6, the
-scenario of Section VII.B and the particle filter (zheng2014, vector observations)."""
+"""fusioncenter.censoring, vector observations (zheng2014 Part IV(b)): the generalized chi-square
+probability, Propositions 4-6, the scenario of Section VII.B and the particle filter."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ import scipy.stats
 from filterpy.kalman import KalmanFilter
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_vector as cv
 from fusioncenter import particle
+from fusioncenter.censoring import ellipse, vector, vector_fusion, vector_likelihood
 
 
 def _z(diff, se):
@@ -57,7 +57,7 @@ def test_isotropic_case_is_scipy_ncx2(sigma2):
         for r in (0.0, 0.5, 1.0, 2.0, 4.0, 6.0, 9.0):
             ang = rng.uniform(0, 2 * np.pi)
             mean = r * np.array([np.cos(ang), np.sin(ang)])
-            got = cv.log_censored_probability(mean, sigma2 * np.eye(2), eta)
+            got = ellipse.log_censored_probability(mean, sigma2 * np.eye(2), eta)
             nc = r * r / sigma2
             x = eta / sigma2
             lcdf = scipy.stats.ncx2.logcdf(x, 2, nc) if nc else scipy.stats.chi2.logcdf(x, 2)
@@ -72,7 +72,7 @@ def test_isotropic_case_is_scipy_ncx2(sigma2):
 @pytest.mark.parametrize("a,r", [(2.0, 20.0), (0.3, 30.0), (1.0, 38.0), (8.0, 38.0)])
 def test_far_tail_no_underflow_against_mpmath(a, r):
     """Where scipy's ncx2.logcdf loses accuracy or returns -inf (log P ~ -170 .. -720)."""
-    got = cv.log_censored_probability([0.0, r], np.eye(2), a * a)
+    got = ellipse.log_censored_probability([0.0, r], np.eye(2), a * a)
     assert np.isfinite(got)
     assert got == pytest.approx(_mp_isotropic(a, r), rel=1e-12)
 
@@ -84,7 +84,7 @@ def test_anisotropic_against_mpmath():
         r = rng.choice([0.5, 3.0, 8.0, 20.0])
         ang = rng.uniform(0, 2 * np.pi)
         b1, b2 = r * np.cos(ang), r * np.sin(ang)
-        got = cv.log_canon(b1, b2, a1, a2)
+        got = ellipse.log_canon(b1, b2, a1, a2)
         assert got == pytest.approx(_mp_theta(abs(b1), b2, a1, a2), rel=1e-11)
 
 
@@ -96,7 +96,7 @@ def test_against_monte_carlo_general_covariance():
         cov = Aq @ Aq.T + 0.2 * np.eye(2)
         mean = rng.normal(size=2) * 1.5
         eta = rng.uniform(0.5, 4.0)
-        p = cv.censored_probability(mean, cov, eta)
+        p = ellipse.censored_probability(mean, cov, eta)
         q = mean + rng.standard_normal((n, 2)) @ np.linalg.cholesky(cov).T
         freq = np.mean((q * q).sum(axis=1) < eta)
         assert _z(freq - p, math.sqrt(p * (1 - p) / n)) < 4
@@ -108,12 +108,12 @@ def test_rotation_invariance_and_one_dimension():
     cov = np.array([[1.5, 0.4], [0.4, 0.6]])
     th = 0.83
     Rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
-    a = cv.log_censored_probability(mean, cov, eta)
-    b = cv.log_censored_probability(Rot @ mean, Rot @ cov @ Rot.T, eta)
+    a = ellipse.log_censored_probability(mean, cov, eta)
+    b = ellipse.log_censored_probability(Rot @ mean, Rot @ cov @ Rot.T, eta)
     assert a == pytest.approx(b, rel=1e-13)
     # m = 1: the scalar factor Q(xi_1) - Q(xi_2) of Proposition 1
     mu, s, r = rng.normal(size=5) * 2, 1.7, 0.8
-    got = cv.log_silent_probability(mu[:, None], [[s]], [[r]], eta)
+    got = ellipse.log_silent_probability(mu[:, None], [[s]], [[r]], eta)
     assert np.allclose(got, cs.log_censored_probability(mu, s, r, eta), rtol=1e-13)
 
 
@@ -128,17 +128,17 @@ def test_proposition4_q_is_the_whitened_innovation():
         mu = rng.normal(size=2) * 2
         w, V = np.linalg.eigh(S)
         Sm = V @ np.diag(w ** -0.5) @ V.T
-        lhs = cv.log_silent_probability(mu, S, R, 1.386)
-        rhs = cv.log_censored_probability(Sm @ mu, Sm @ R @ Sm, 1.386)
+        lhs = ellipse.log_silent_probability(mu, S, R, 1.386)
+        rhs = ellipse.log_censored_probability(Sm @ mu, Sm @ R @ Sm, 1.386)
         assert lhs == pytest.approx(rhs, rel=1e-12)
 
 
 def test_sampled_estimate_is_unbiased_with_the_binomial_error():
     rng = np.random.default_rng(5)
     mean, cov, eta = np.array([1.0, -0.5]), np.array([[0.8, 0.3], [0.3, 0.5]]), 1.386
-    p = cv.censored_probability(mean, cov, eta)
-    est = cv.censored_probability_sampled(np.broadcast_to(mean, (2000, 2)), cov, eta,
-                                          n_samples=50, rng=rng)
+    p = ellipse.censored_probability(mean, cov, eta)
+    est = vector_likelihood.censored_probability_sampled(np.broadcast_to(mean, (2000, 2)), cov,
+                                                         eta, n_samples=50, rng=rng)
     assert est.std() == pytest.approx(math.sqrt(p * (1 - p) / 50), rel=0.1)
     assert _z(est.mean() - p, est.std() / math.sqrt(est.size)) < 4
 
@@ -148,17 +148,17 @@ def test_tables_are_accurate():
     rng = np.random.default_rng(6)
     for a1, a2 in [(1.18, 1.6), (1.2, 3.9), (2.5, 2.6), (3.5, 6.0)]:
         b = rng.uniform(-13, 13, (5000, 2))
-        val = cv.log_silent_table((b[:, 0], b[:, 1]), np.array([a1, a2]))
-        ref = cv.log_canon(b[:, 0], b[:, 1], a1, a2)
+        val = ellipse.log_silent_table((b[:, 0], b[:, 1]), np.array([a1, a2]))
+        ref = ellipse.log_canon(b[:, 0], b[:, 1], a1, a2)
         assert np.max(np.abs(val - ref)) < 1e-6
     n, P = 24, 400
     for eta in (0.575, 2.77):
         mu = rng.uniform(0.3, 3, (n, 2))
         a = np.sort(np.sqrt(eta * (1 + mu)), axis=1)
         b = rng.normal(size=(n, P, 2)) * np.sqrt(mu)[:, None, :] + rng.normal(size=(n, 1, 2))
-        val = cv.eval_silent(b, a)
+        val = ellipse.eval_silent(b, a)
         aa = np.broadcast_to(a[:, None, :], b.shape)
-        ref = cv.log_canon(b[..., 0], b[..., 1], aa[..., 0], aa[..., 1])
+        ref = ellipse.log_canon(b[..., 0], b[..., 1], aa[..., 0], aa[..., 1])
         assert np.max(np.abs(val - ref)) < 2e-5
 
 
@@ -171,7 +171,7 @@ def test_truncated_draws_have_the_conditional_mean():
         b = np.array(b)
         u, left = cs.vector_fusion._sample_in_ellipse(rng, np.broadcast_to(b, (100_000, 2)), a)
         assert left == 0 and np.all(((u / a) ** 2).sum(axis=1) < 1)
-        f, f1, f2, _ = cv.grid_terms(np.array([b[0]]), np.array([b[1]]), a[0], a[1], 64)
+        f, f1, f2, _ = ellipse.grid_terms(np.array([b[0]]), np.array([b[1]]), a[0], a[1], 64)
         mean = b + np.array([f1[0, 0], f2[0, 0]])
         se = u.std(axis=0) / math.sqrt(u.shape[0])
         assert np.all(np.abs(u.mean(axis=0) - mean) < 4 * se)
@@ -227,7 +227,7 @@ def test_compiled_tables_evaluate_as_the_numpy_code():
     for p in (3, 2, 1, 0):
         r = ((c[4 * p + 3] * t2 + c[4 * p + 2]) * t2 + c[4 * p + 1]) * t2 + c[4 * p]
         ref = r if ref is None else ref * t1 + r
-    ref[far] = cv.log_canon(x1[far], x2[far], 1.3, 2.2)
+    ref[far] = ellipse.log_canon(x1[far], x2[far], 1.3, 2.2)
     assert far.any() and np.array_equal(tab(x1, x2), ref)
     k, G = 5, 24
     f, f1, f2, f12 = rng.normal(size=(4, k, G, G))
@@ -246,7 +246,7 @@ def test_compiled_tables_evaluate_as_the_numpy_code():
 ])
 def test_probability_validation(kwargs, word):
     with pytest.raises(ValueError, match=word):
-        cv.log_censored_probability(**kwargs)
+        ellipse.log_censored_probability(**kwargs)
 
 
 # ----------------------------------------------------------------------------- likelihoods
@@ -257,9 +257,10 @@ def test_feedback_likelihood_is_the_sum_of_its_factors():
     Hx, Hp = rng.normal(size=(2, 2)), rng.normal(size=(2, 2))
     R = np.array([[2.0, 0.0], [0.0, 4.0]])
     S = R + np.array([[1.0, 0.3], [0.3, 2.0]])
-    got = cv.log_likelihood_feedback(sent, z, Hx, Hp, np.stack([S, S]), np.stack([R, R]), 1.386)
+    got = vector_likelihood.log_likelihood_feedback(sent, z, Hx, Hp, np.stack([S, S]),
+                                                    np.stack([R, R]), 1.386)
     want = (scipy.stats.multivariate_normal(Hx[0], R).logpdf(z[0])
-            + cv.log_silent_probability(Hx[1] - Hp[1], S, R, 1.386))
+            + ellipse.log_silent_probability(Hx[1] - Hp[1], S, R, 1.386))
     assert got == pytest.approx(want, rel=1e-12)
 
 
@@ -267,20 +268,20 @@ def test_printed_proposition6_does_not_sum_to_one():
     """N = 2, l = 1: sum over outcomes = 1 + P_1 + P_2 + P_12 (P_j = 1 - l/N = 1/2), about 2.25
     as for independent innovations, never 1; the joint term checked by simulating the two
     sensors' own Kalman filters (the law (21)-(23))."""
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     t = 6
-    mass = cv.printed_mass(sc, 1, t)
+    mass = vector.printed_mass(sc, 1, t)
     assert 2.2 < mass < 2.35
     lf = sc.local_filters()
-    cov = cv.silent_covariance(sc, lf["Sigma"][t - 1])
-    p12 = math.exp(cv.log_all_silent(cov, lf["S"][t - 1], cs.threshold(1, 2, dof=2)))
+    cov = vector.silent_covariance(sc, lf["Sigma"][t - 1])
+    p12 = math.exp(vector.log_all_silent(cov, lf["S"][t - 1], cs.threshold(1, 2, dof=2)))
     assert mass == pytest.approx(1 + 0.5 + 0.5 + p12, rel=1e-9)
     # Monte Carlo of the sensors' innovations at step t (no feedback: local filters only)
     rng = np.random.default_rng(9)
     n = 100_000
     x, z = sc.sample(rng, n)
     eta = cs.threshold(1, 2, dof=2)
-    sent = cv.local_decisions(sc, eta, z)
+    sent = vector.local_decisions(sc, eta, z)
     both = np.mean(~sent[:, t - 1, 0] & ~sent[:, t - 1, 1])
     assert _z(both - p12, math.sqrt(p12 * (1 - p12) / n)) < 4
     one = np.mean(~sent[:, t - 1, 0])
@@ -288,21 +289,21 @@ def test_printed_proposition6_does_not_sum_to_one():
 
 
 def test_printed_constant_single_sensor_is_exact():
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     lf = sc.local_filters()
-    cov = cv.silent_covariance(sc, lf["Sigma"][3])
+    cov = vector.silent_covariance(sc, lf["Sigma"][3])
     eta = cs.threshold(1, 2, dof=2)
-    assert math.exp(cv.log_all_silent(cov[:2, :2], lf["S"][3][:1], eta)) == \
+    assert math.exp(vector.log_all_silent(cov[:2, :2], lf["S"][3][:1], eta)) == \
         pytest.approx(0.5, rel=1e-12)
 
 
 # ----------------------------------------------------------------------------- scenario
 def test_scenario_defaults_are_the_papers():
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     assert (sc.N, sc.T, sc.x0, sc.sigma2, sc.dt, sc.m) == (2, 20, (0.0, 10.0), 4.0, 1.0, 2)
     assert np.array_equal(sc.Rs[0], np.diag([2.0, 4.0])) and np.array_equal(sc.Hs[1], np.eye(2))
     assert "sensors" in sc.choices and "silent probability" in sc.choices
-    assert cv.VectorScenario(N=4, R=(2.0, 4.0)) == cv.VectorScenario(N=4)
+    assert vector.VectorScenario(N=4, R=(2.0, 4.0)) == vector.VectorScenario(N=4)
 
 
 @pytest.mark.parametrize("kwargs, word", [
@@ -313,7 +314,7 @@ def test_scenario_defaults_are_the_papers():
 ])
 def test_scenario_validation(kwargs, word):
     with pytest.raises(ValueError, match=word):
-        cv.VectorScenario(**kwargs)
+        vector.VectorScenario(**kwargs)
 
 
 @pytest.mark.parametrize("mean, eta", [((0.3, -0.2), 1.0), ((0.0, 0.0), 0.5), ((3.0, 1.0), 1.0),
@@ -330,49 +331,51 @@ def test_singular_covariance_is_the_exact_degenerate_limit(mean, eta):
     if rest > 0:
         hw, c = mp.sqrt(rest / lam), w / mp.sqrt(lam)
         ref = float(mp.log(mp.ncdf(hw - c) - mp.ncdf(-hw - c)))
-        assert float(cv.log_censored_probability(mean, cov, eta)) == pytest.approx(ref, rel=1e-13)
+        got = float(ellipse.log_censored_probability(mean, cov, eta))
+        assert got == pytest.approx(ref, rel=1e-13)
     else:
-        assert cv.log_censored_probability(mean, cov, eta) == -np.inf
-    assert cv.log_censored_probability(mean, np.zeros((2, 2)), eta) == (
+        assert ellipse.log_censored_probability(mean, cov, eta) == -np.inf
+    assert ellipse.log_censored_probability(mean, np.zeros((2, 2)), eta) == (
         0.0 if mean @ mean < eta else -np.inf)
     # a batch mixing singular and regular covariances: each as on its own
-    both = cv.log_censored_probability(mean, np.stack([cov, np.eye(2)]), eta)
-    assert both[0] == cv.log_censored_probability(mean, cov, eta)
-    assert both[1] == cv.log_censored_probability(mean, np.eye(2), eta)
+    both = ellipse.log_censored_probability(mean, np.stack([cov, np.eye(2)]), eta)
+    assert both[0] == ellipse.log_censored_probability(mean, cov, eta)
+    assert both[1] == ellipse.log_censored_probability(mean, np.eye(2), eta)
     # the silent factor with a singular R: the same law after whitening by S
     S = np.diag([2.0, 3.0])
     Li = np.diag(1 / np.sqrt([2.0, 3.0]))
-    assert cv.log_silent_probability(mean, S, cov, eta) == pytest.approx(
-        float(cv.log_censored_probability(Li @ mean, Li @ cov @ Li, eta)), rel=1e-12, abs=0)
+    assert ellipse.log_silent_probability(mean, S, cov, eta) == pytest.approx(
+        float(ellipse.log_censored_probability(Li @ mean, Li @ cov @ Li, eta)), rel=1e-12, abs=0)
 
 
 def test_too_elongated_covariance_is_an_error_not_a_wrong_number():
     """Between the singular limit (eigenvalue ratio <= 1e-12) and ratio 1e-6 the quadrature
     does not resolve the ellipse (it returned -101 for a true -0.653 at ratio 1e-10): refused."""
-    assert float(cv.log_censored_probability([0.3, 0.2], np.diag([1.0, 1e-6]), 1.0)) == \
+    assert float(ellipse.log_censored_probability([0.3, 0.2], np.diag([1.0, 1e-6]), 1.0)) == \
         pytest.approx(-0.428670667024070, abs=1e-13)  # mpmath
     for eps in (2e-7, 1e-10):
         with pytest.raises(ValueError, match="^cov is too elongated"):
-            cv.log_censored_probability([0.0, 0.0], np.diag([1.0, eps]), 0.5)
+            ellipse.log_censored_probability([0.0, 0.0], np.diag([1.0, eps]), 0.5)
         with pytest.raises(ValueError, match="^R is too elongated"):
-            cv.log_silent_probability([0.0, 0.0], np.eye(2), np.diag([1.0, eps]), 0.5)
+            ellipse.log_silent_probability([0.0, 0.0], np.eye(2), np.diag([1.0, eps]), 0.5)
 
 
 def test_singular_covariance_sampled_and_refused_when_indefinite():
     cov = 2.0 * np.outer([0.6, 0.8], [0.6, 0.8])
-    p = math.exp(cv.log_censored_probability([0.3, -0.2], cov, 1.0))
-    est = cv.censored_probability_sampled(np.array([0.3, -0.2]), cov, 1.0, n_samples=4000,
-                                          rng=np.random.default_rng(5))
+    p = math.exp(ellipse.log_censored_probability([0.3, -0.2], cov, 1.0))
+    est = vector_likelihood.censored_probability_sampled(np.array([0.3, -0.2]), cov, 1.0,
+                                                         n_samples=4000,
+                                                         rng=np.random.default_rng(5))
     assert abs(est - p) < 4 * math.sqrt(p * (1 - p) / 4000)
     with pytest.raises(ValueError, match="^cov must be positive semi-definite"):
-        cv.log_censored_probability([0.0, 0.0], [[1.0, 2.0], [2.0, 1.0]], 1.0)
+        ellipse.log_censored_probability([0.0, 0.0], [[1.0, 2.0], [2.0, 1.0]], 1.0)
 
 
 def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
     """sigma2 = 0 (Q = 0) with a known start: the track is x0 moved at constant velocity, the
     local filters know the state exactly (P_pred = 0) and every fusion centre's particles sit on
     the true track, so the position error is 0 for every scheme and feedback."""
-    sc = cv.VectorScenario(sigma2=0.0, T=5)
+    sc = vector.VectorScenario(sigma2=0.0, T=5)
     assert sc.sigma2 == 0.0 and np.array_equal(sc.Q, np.zeros((2, 2)))
     x, z = sc.sample(np.random.default_rng(1), 3)
     truth = sc.x0[0] + sc.x0[1] * np.arange(sc.T + 1)
@@ -390,7 +393,7 @@ def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
         assert np.all(np.isfinite(rmse.value)) and np.max(rmse.value) < 1e-9, (fb, scheme, kw)
     # with an uncertain (even singular) start the filter stays finite
     for P0 in (((1.0, 0.0), (0.0, 0.1)), ((1.0, 1.0), (1.0, 1.0))):
-        sc0 = cv.VectorScenario(sigma2=0.0, T=3, P0=P0)
+        sc0 = vector.VectorScenario(sigma2=0.0, T=3, P0=P0)
         rmse = cs.run(sc0, "cfwmd", l=1, n_trials=3, n_particles=30, seed=1).rmse_position
         assert np.all(np.isfinite(rmse.value))
 
@@ -400,16 +403,16 @@ def test_deterministic_motion_sigma2_zero_is_a_legitimate_limit():
                                       (((1.0, 0.5), (0.0, 1.0)), "^P0: P0 must be symmetric")])
 def test_p0_is_checked_symmetric_psd(P0, word):
     with pytest.raises(ValueError, match=word):
-        cv.VectorScenario(P0=P0)
+        vector.VectorScenario(P0=P0)
 
 
 def test_singular_R_is_refused_with_the_reason():
     with pytest.raises(ValueError, match="^R must be positive definite .*likelihood degenerate"):
-        cv.VectorScenario(R=((1.0, 1.0), (1.0, 1.0)))
+        vector.VectorScenario(R=((1.0, 1.0), (1.0, 1.0)))
 
 
 def test_local_filters_match_filterpy_and_the_cross_covariance():
-    sc = cv.VectorScenario(P0=((1.0, 0.2), (0.2, 0.5)))
+    sc = vector.VectorScenario(P0=((1.0, 0.2), (0.2, 0.5)))
     lf = sc.local_filters()
     kf = KalmanFilter(dim_x=2, dim_z=2)
     kf.F, kf.Q, kf.H, kf.R = sc.F, sc.Q, sc.Hs[0], sc.Rs[0]
@@ -421,7 +424,7 @@ def test_local_filters_match_filterpy_and_the_cross_covariance():
         assert np.allclose(kf.S, lf["S"][t, 0], rtol=1e-12)
         assert np.allclose(kf.K, lf["gain"][t, 0], rtol=1e-12)
     # (22)-(23): the cross-covariance of two sensors' prediction errors, by simulation
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     lf = sc.local_filters()
     rng = np.random.default_rng(10)
     n, t = 100_000, 5
@@ -440,11 +443,11 @@ def test_local_filters_match_filterpy_and_the_cross_covariance():
 def _run(sc, scheme, **kw):
     base = {"l": 1, "n_trials": 48, "n_particles": 200, "seed": 5}
     base.update(kw)
-    return cv.run(sc, scheme, **base)
+    return vector_fusion.run(sc, scheme, **base)
 
 
 def test_results_are_independent_of_chunking_and_executor():
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     kw = {"feedback": "state", "n_trials": 40, "block_size": 16}
     a = _run(sc, "cfwmd", **kw)
     b = _run(sc, "cfwmd", chunk_size=16, **kw)
@@ -465,7 +468,7 @@ def test_results_are_independent_of_chunking_and_executor():
 def test_fused_filter_equals_the_reference_model(N, scheme, feedback, likelihood, ess):
     """Two models of the one loop, the tabulated (_FusedVector) and the plain one (_VectorFC,
     _VectorExactFC): the same draws, the same estimates up to rounding and table error."""
-    sc = cv.VectorScenario(N=N)
+    sc = vector.VectorScenario(N=N)
     rng = np.random.default_rng(4)
     x, z = sc.sample(rng, 24)
     u = rng.random(z.shape[:-1])
@@ -486,14 +489,14 @@ def test_scalar_special_case_reproduces_the_scalar_library():
     """H = [1, 0], R = 1 is Section VII.A: the same truth and measurements as censoring.run
     (the first spawned stream), hence the same sensor decisions without feedback, and the same
     RMSE within the (paired) Monte Carlo error of the two particle filters."""
-    sc = cv.VectorScenario(H=(1.0, 0.0), R=1.0)
+    sc = vector.VectorScenario(H=(1.0, 0.0), R=1.0)
     kw = {"l": 1, "n_trials": 160, "n_particles": 300, "seed": 5}
     a = cs.run(cs.LinearScenario(), "cfomd", feedback="none", **kw)
-    b = cv.run(sc, "cfomd", feedback="none", **kw)
+    b = vector_fusion.run(sc, "cfomd", feedback="none", **kw)
     assert np.array_equal(a.mc.samples[..., 2], b.mc.samples[..., 2])
     for feedback in ("state", "state+cov"):
         a = cs.run(cs.LinearScenario(), "cfwmd", feedback=feedback, **kw)
-        b = cv.run(sc, "cfwmd", feedback=feedback, **kw)
+        b = vector_fusion.run(sc, "cfwmd", feedback=feedback, **kw)
         va, ia = cs.results.tavg_influence(a, "position")
         vb, ib = cs.results.tavg_influence(b, "position")
         d = ia - ib
@@ -503,7 +506,7 @@ def test_scalar_special_case_reproduces_the_scalar_library():
 
 
 def test_printed_no_feedback_is_cfomd_and_exact_beats_it():
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     kw = {"feedback": "none", "n_trials": 300, "n_particles": 600}
     printed = _run(sc, "cfwmd", likelihood="printed", **kw)
     cfomd = _run(sc, "cfomd", **kw)
@@ -516,13 +519,13 @@ def test_printed_no_feedback_is_cfomd_and_exact_beats_it():
 
 def test_design_target_is_met_without_feedback():
     """Local innovations are N(0, S): each sensor sends with probability l / N exactly."""
-    res = _run(cv.VectorScenario(), "cfomd", feedback="none", n_trials=400, n_particles=20)
+    res = _run(vector.VectorScenario(), "cfomd", feedback="none", n_trials=400, n_particles=20)
     mean, se = res.average_transmissions
     assert _z(mean - 1.0, se) < 4
 
 
 def test_ordering_of_the_schemes_with_feedback():
-    sc = cv.VectorScenario()
+    sc = vector.VectorScenario()
     kw = {"n_trials": 200, "n_particles": 300}
     r = {s: _run(sc, s, **kw) for s in ("all-send", "cfwmd", "cfomd", "random")}
     for better, worse in (("all-send", "cfwmd"), ("cfwmd", "cfomd"), ("cfomd", "random")):
@@ -531,7 +534,7 @@ def test_ordering_of_the_schemes_with_feedback():
 
 
 def test_table_and_quadrature_filters_agree():
-    sc = cv.VectorScenario(N=4)
+    sc = vector.VectorScenario(N=4)
     kw = {"feedback": "state+cov", "n_trials": 8, "n_particles": 100, "l": 2}
     a = _run(sc, "cfwmd", probability="quadrature", **kw)
     b = _run(sc, "cfwmd", **kw)
@@ -550,15 +553,15 @@ def test_run_validation(kwargs, word):
     kw.update(kwargs)
     scheme = kw.pop("scheme")
     with pytest.raises(ValueError, match=word):
-        cv.run(cv.VectorScenario(), scheme, **kw)
+        vector_fusion.run(vector.VectorScenario(), scheme, **kw)
     with pytest.raises(ValueError, match="VectorScenario"):
-        cv.run(cs.LinearScenario(), "cfwmd", l=1, n_trials=2, n_particles=10, seed=1)
+        vector_fusion.run(cs.LinearScenario(), "cfwmd", l=1, n_trials=2, n_particles=10, seed=1)
 
 
 def test_scalar_default_likelihood_passes_through_where_unused():
     """censoring.run's default likelihood='corrected' only matters for CFwMD without feedback."""
-    res = cv.run(cv.VectorScenario(), "cfwmd", l=1, n_trials=2, n_particles=10, seed=1,
-                 feedback="state", likelihood="corrected")
+    res = vector_fusion.run(vector.VectorScenario(), "cfwmd", l=1, n_trials=2, n_particles=10,
+                            seed=1, feedback="state", likelihood="corrected")
     assert res.likelihood == "corrected" and res.mc.n_trials == 2
 
 
@@ -585,14 +588,14 @@ def _mp_log_canon(b1, b2, a1, a2, dps=20):
 def test_elongated_covariance_meets_the_documented_accuracy(mean, eta):
     """cov = diag(1, 0.01): an ellipse ten times longer than wide (issue 17: 2.2e-9 where the
     docstring promises ~1e-13; the long axis is now the substituted one)."""
-    got = float(cv.log_censored_probability(mean, np.diag([1.0, 0.01]), eta))
+    got = float(ellipse.log_censored_probability(mean, np.diag([1.0, 0.01]), eta))
     ref = _mp_log_canon(mean[0], mean[1] / 0.1, math.sqrt(eta), math.sqrt(eta) / 0.1)
     assert abs(got - ref) < 1e-13 * max(1.0, abs(ref))
     # the two orders of the axes are the same probability
-    assert float(cv.log_canon(mean[1] / 0.1, mean[0], math.sqrt(eta) / 0.1, math.sqrt(eta))) \
+    assert float(ellipse.log_canon(mean[1] / 0.1, mean[0], math.sqrt(eta) / 0.1, math.sqrt(eta))) \
         == pytest.approx(got, abs=1e-13)
 
 
 def test_very_elongated_ellipse_against_mpmath():
-    got = float(cv.log_canon(0.0, 12.0, 2.0, 30.0))
+    got = float(ellipse.log_canon(0.0, 12.0, 2.0, 30.0))
     assert abs(got - _mp_log_canon(0.0, 12.0, 2.0, 30.0)) < 1e-13

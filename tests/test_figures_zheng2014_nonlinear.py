@@ -9,7 +9,7 @@ import pytest
 from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
-from fusioncenter.figures import zheng2014_nonlinear as zn
+from fusioncenter.figures.zheng2014 import nonlinear as zn
 
 IDS = ["zheng2014-fig7", "zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10",
        "zheng2014-table3"]

@@ -9,7 +9,8 @@ import pytest
 from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
-from fusioncenter.figures import zheng2014_vector as zv
+from fusioncenter.censoring import vector, vector_fusion
+from fusioncenter.figures.zheng2014 import vector as zv
 
 IDS = ["zheng2014-fig4", "zheng2014-fig5", "zheng2014-table2", "zheng2014-fig6"]
 
@@ -51,14 +52,14 @@ def test_fig5_and_table2_share_one_computation():
 def test_fig4_and_fig6_share_their_blind_runs():
     """All-send and random selection ignore the broadcast: one run serves every feedback, and
     it equals the run made with that feedback (data of Figs. 4 and 6 unchanged)."""
-    sc = zv.cv.VectorScenario(N=2)
+    sc = vector.VectorScenario(N=2)
     kw = dict(l=1.0, n=64, P=50, seed=11)
     for scheme in zv._BLIND:
         a = zv._run(sc, scheme, feedback="state", **kw)
         b = zv._run(sc, scheme, feedback="none", **kw)
         assert a.mc is b.mc and (a.feedback, b.feedback) == ("state", "none")
-        own = zv.cv.run(sc, scheme, l=1.0, n_trials=64, n_particles=50, seed=11,
-                        feedback="state")
+        own = vector_fusion.run(sc, scheme, l=1.0, n_trials=64, n_particles=50, seed=11,
+                                feedback="state")
         assert np.array_equal(own.mc.samples, a.mc.samples)
     c = zv._run(sc, "cfomd", feedback="state", **kw)
     assert c is zv._run(sc, "cfomd", feedback="state", **kw)

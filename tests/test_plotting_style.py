@@ -125,8 +125,65 @@ def test_registry_figure_uses_the_visual_language(entry_id):
         assert facts["panel_fraction"] * 700 >= 500, facts
         assert facts["min_font_pt"] * facts["dpi"] / 72 * scale >= 11, facts
         assert plotting.describe(fig).count("Panel") == facts["panels"]
+        assert panel_letters(fig) is not None, f"{entry_id}: panels without their own letter"
+        assert unreadable_log_ticks(fig) == [], entry_id
     finally:
         plt.close(fig)
+
+
+def panel_letters(fig) -> list[str] | None:
+    """The panels' letters, top to bottom (``[]`` for one panel); ``None`` if a panel of a
+    figure of several lacks one or two share one."""
+    panels = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
+    if len(panels) < 2:
+        return []
+    found = [plotting.PANEL_LETTER.match(plotting.panel_heading(ax)[0]) for ax in panels]
+    letters = [m[1] for m in found if m]
+    return letters if len(letters) == len(panels) == len(set(letters)) else None
+
+
+def unreadable_log_ticks(fig) -> list[str]:
+    """Tick labels of log axes written as ``k×10^n`` (matplotlib's minor labels on an axis of
+    less than a decade): a reader wants plain numbers or powers of ten."""
+    fig.canvas.draw()
+    bad = []
+    for ax in fig.get_axes():
+        for axis in (ax.xaxis, ax.yaxis):
+            if axis.get_scale() != "log":
+                continue
+            for tick in (*axis.get_ticklabels(), *axis.get_ticklabels(minor=True)):
+                if "\\times" in tick.get_text():
+                    bad.append(f"{ax.get_ylabel() or ax.get_xlabel()}: {tick.get_text()}")
+    return bad
+
+
+def test_panels_get_their_own_letters_and_log_ticks_read_plainly():
+    fig, (a, b) = plotting.subplots(2, 1, stack=True)
+    a.plot([1, 2], [0.8, 3.1], label="x")
+    b.plot([1, 2], [0.8, 3.1])
+    for ax in (a, b):
+        ax.set(xlabel="x (-)", ylabel="y (-)", yscale="log")
+    a.set_title("first")
+    a.legend()
+    plotting.finish(fig)
+    assert panel_letters(fig) is None
+    assert unreadable_log_ticks(fig)  # matplotlib's default: 2x10^0, 3x10^0
+    plotting.letter_panels(fig)
+    assert panel_letters(fig) == ["a", "b"]
+    assert a.get_legend().get_title().get_text() == "(a) first" and b.get_title() == "(b)"
+    plotting.letter_panels(fig)  # already lettered: unchanged
+    assert a.get_legend().get_title().get_text() == "(a) first"
+    for ax in (a, b):
+        plotting.log_axis(ax)
+    assert unreadable_log_ticks(fig) == []
+    labels = [t.get_text() for t in b.yaxis.get_ticklabels(minor=True) if t.get_text()]
+    assert "1.5" in labels and "3" in labels
+    b.set_title("(a) again")
+    with pytest.raises(ValueError, match="share a letter"):
+        plotting.letter_panels(fig)
+    with pytest.raises(ValueError, match="which"):
+        plotting.log_axis(a, "z")
+    plt.close(fig)
 
 
 def test_subplots_stack_and_keep_the_grid_shape():

@@ -14,7 +14,12 @@ from figure_helpers import data as fast_data
 
 from fusioncenter import figures
 from fusioncenter.cli import main
-from fusioncenter.figures.scorecard import scorecard_markdown, status_counts
+from fusioncenter.figures.scorecard import (
+    scorecard_markdown,
+    status_counts,
+    status_rows,
+    status_sentence,
+)
 
 OUR_OWN = {"background-riccati", "background-kf-montecarlo", "mo2015-rate", "mo2015-tradeoff",
            "mo2015-tracking"}
@@ -152,6 +157,23 @@ def test_scorecard():
     assert "No registry entries" not in table
     with pytest.raises(ValueError, match="paper"):
         scorecard_markdown("nobody")
+
+
+def test_status_sentence_and_rows():
+    z = status_counts("zheng2014")
+    assert status_sentence("zheng2014") == (
+        f"{sum(z.values())} registry entries: {z['reproduced']} reproduced, {z['differs']} "
+        "differ from the paper.")
+    n = sum(status_counts("mo2015").values())
+    assert status_sentence("mo2015") == f"{n} registry entries, all reproduced."
+    assert "{" not in status_sentence() and "'" not in status_sentence()
+    rows = status_rows()
+    assert rows[-1][0] == "total" and rows[-1][1] == len(figures.ids())
+    assert [r[0] for r in rows[:-1]] == [p if p != "book" else "book's own"
+                                         for p in figures.PAPERS]
+    assert all(r[1] == sum(r[2:]) for r in rows)
+    with pytest.raises(ValueError, match="paper"):
+        status_sentence("nobody")
 
 
 # ------------------------------------------------------------------------------------ CLI

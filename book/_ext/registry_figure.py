@@ -14,7 +14,8 @@ page):
 - a ``figure`` node named ``ID`` (``{numref}`ID``` works), its image at the text width and
   linked to the full-resolution PNG, its alt text written from the figure's axes and legends;
 - a caption: the registry caption, which paper figure it reproduces (or that it is the book's
-  own), the profile with its trial/path/particle counts, and the seed;
+  own; for an entry whose status is ``differs``, that it differs from it and how, in one
+  line), the profile with its trial/path/particle counts, and the seed;
 - links to the figure's data as JSON and CSV, written into the site by the command line's own
   serialisers (``python -m fusioncenter compute ID --json`` / ``--csv``);
 - the evidence as a collapsible table;
@@ -83,14 +84,24 @@ def counts(parameters: dict, profile: str) -> list[str]:
 
 
 def caption_source(entry, meta: dict) -> tuple[str, str]:
-    """The caption: the registry caption (plain text) and a MyST suffix."""
+    """The caption: the registry caption (plain text) and a MyST suffix.
+
+    The suffix says which paper figure the entry reproduces, or, for an entry whose status is
+    ``differs``, that it differs from it and how, in one line
+    (:meth:`fusioncenter.figures.registry.Entry.differs_reason`).
+    """
     fig = paper_figure(entry.id)
-    if fig is not None:
+    reason = entry.differs_reason()
+    if fig is not None and reason:
+        what = f"Differs from {fig} of {{cite:t}}`{entry.paper}`: {reason}."
+    elif fig is not None:
         what = f"Reproduces {fig} of {{cite:t}}`{entry.paper}`."
     elif entry.paper == "book":
         what = "This book's own figure."
     else:
         what = f"This book's own figure, on the model of {{cite:t}}`{entry.paper}`."
+    if fig is None and reason:
+        what += f" Differs from what the paper states: {reason}."
     run = [f"profile `{meta['profile']}`"] + counts(entry.parameters, meta["profile"])
     return entry.caption, f"{what} Computed in {', '.join(run)}; seed {meta['seed']}."
 

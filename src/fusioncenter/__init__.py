@@ -9,9 +9,9 @@ chose, or managed, to send. One module per topic:
 - :mod:`fusioncenter.models`      shared example models (the tracking model of zheng2014)
 - :mod:`fusioncenter.fading`      fading laws, the random Riccati recursion and its bounds (dey2009)
 - :mod:`fusioncenter.power`       steady state, 1/M laws and power allocation (leong2011)
-- :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014)
-- :mod:`fusioncenter.censoring_vector`     censoring of vector observations (zheng2014 Section V)
-- :mod:`fusioncenter.censoring_nonlinear`  the nonlinear sensor-grid tracker (zheng2014 Section VI)
+- :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014); vector
+  observations (Section V) in :mod:`fusioncenter.censoring.vector` and its neighbours, the
+  nonlinear sensor-grid tracker (Section VI) in :mod:`fusioncenter.censoring.nonlinear`
 - :mod:`fusioncenter.censoring_compare`    zheng2014's three settings read together (Tables I-III)
 - :mod:`fusioncenter.synthesis`   the four papers' schemes on one problem, over faded links
 - :mod:`fusioncenter.particle`    a particle filter vectorized over trials and particles

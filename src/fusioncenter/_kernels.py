@@ -1,6 +1,6 @@
 """Compiled inner loops of the particle filter :func:`fusioncenter.particle.run_filter` and of
 its fusion-centre models (:class:`fusioncenter.censoring.LinearFusionCentre`, the vector
-observations' model in :mod:`fusioncenter.censoring_vector`, the nonlinear model's amplitudes
+observations' model in :mod:`fusioncenter.censoring.vector`, the nonlinear model's amplitudes
 and silent factors in :mod:`fusioncenter.censoring.nonlinear`), and the linear-Gaussian
 transition of :class:`fusioncenter.particle.LinearGaussianDynamics`.
 

@@ -289,15 +289,15 @@ def table_meta() -> dict[str, dict]:
         For each setting of :data:`SETTINGS`, the keyword arguments ``paper_trials``, ``N``
         and ``dof`` of :func:`bandwidth_table`.
     """
-    from fusioncenter.figures import zheng2014, zheng2014_nonlinear, zheng2014_vector
+    from fusioncenter.figures.zheng2014 import linear, nonlinear, vector
 
     return {
-        "scalar": {"paper_trials": zheng2014.TRIALS_FIG2["paper"], "N": zheng2014.FIG2["N"],
+        "scalar": {"paper_trials": linear.TRIALS_FIG2["paper"], "N": linear.FIG2["N"],
                    "dof": 1},
-        "vector": {"paper_trials": zheng2014_vector.TRIALS_FIG5["paper"],
-                   "N": zheng2014_vector.FIG5["N"], "dof": 2},
-        "nonlinear": {"paper_trials": zheng2014_nonlinear.TABLE3_PRINTED["trials"],
-                      "N": zheng2014_nonlinear.SCENARIO.N, "dof": 1},
+        "vector": {"paper_trials": vector.TRIALS_FIG5["paper"], "N": vector.FIG5["N"],
+                   "dof": 2},
+        "nonlinear": {"paper_trials": nonlinear.TABLE3_PRINTED["trials"],
+                      "N": nonlinear.SCENARIO.N, "dof": 1},
     }
 
 
@@ -491,8 +491,8 @@ def payoff_rows(data: Mapping[str, Mapping]) -> list[dict]:
     difference of their squared errors. The nonlinear rows are ``l = 1`` (Fig. 9) and ``l = 2``
     (Fig. 8).
     """
-    from fusioncenter.figures.zheng2014_nonlinear import Z_ORDER as Z_NL
-    from fusioncenter.figures.zheng2014_nonlinear import z_required
+    from fusioncenter.figures.zheng2014.nonlinear import Z_ORDER as Z_NL
+    from fusioncenter.figures.zheng2014.nonlinear import z_required
 
     missing = [e for e in PAYOFF_IDS if e not in data]
     if missing:

@@ -33,8 +33,8 @@ import numpy as np
 from cycler import cycler
 
 __all__ = ["OKABE_ITO", "MARKERS", "RC", "SCHEMES", "QUANTITIES", "MIN_FONT_PT", "SAVE_DPI",
-           "style", "use_style", "subplots", "finish", "errorband", "errorbar_log", "look",
-           "classify", "render", "describe"]
+           "style", "use_style", "subplots", "finish", "errorband", "errorbar_log", "log_axis",
+           "letter_panels", "panel_heading", "look", "classify", "render", "describe"]
 
 OKABE_ITO = [
     "#0072B2",  # blue
@@ -342,6 +342,110 @@ def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None,
     ax.fill_between(x, mean - z * stderr, mean + z * stderr, color=line.get_color(),
                     alpha=0.2, linewidth=0)
     return line
+
+
+#: A panel's letter at the start of its title: "(a) position".
+PANEL_LETTER = re.compile(r"\(([a-z])\)(\s|$)")
+
+
+def panel_heading(ax) -> tuple[str, object]:
+    """The heading a reader sees over a panel, and the text object holding it.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        A panel, finished or not (:func:`finish` moves a panel's title into its legend).
+
+    Returns
+    -------
+    heading : str
+        The axes' title, else its legend's title, else ``""``.
+    holder : matplotlib.text.Text or None
+        The legend's title text when the heading is there (or the panel has a legend and no
+        title), else ``None`` (the axes' title).
+    """
+    leg = ax.get_legend()
+    if ax.get_title() or leg is None:
+        return ax.get_title(), None
+    return leg.get_title().get_text(), leg.get_title()
+
+
+def letter_panels(fig):
+    """Give each panel of a figure of several panels its own letter, ``(a)``, ``(b)``, ...,
+    in the order of the panels (top to bottom), at the start of its heading
+    (:func:`panel_heading`); a figure whose panels already carry letters is left alone.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (normally finished by :func:`finish`), modified in place.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig`` itself.
+
+    Raises
+    ------
+    ValueError
+        If some panels carry letters and others do not, or two panels share a letter.
+    """
+    panels = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
+    if len(panels) < 2:
+        return fig
+    headings = [panel_heading(ax) for ax in panels]
+    letters = [m[1] if (m := PANEL_LETTER.match(h)) else None for h, _ in headings]
+    if all(letters):
+        if len(set(letters)) < len(letters):
+            raise ValueError(f"panels share a letter: {letters}")
+        return fig
+    if any(letters):
+        raise ValueError(f"some panels carry a letter, others not: {letters}")
+    for k, (ax, (heading, holder)) in enumerate(zip(panels, headings, strict=True)):
+        text = f"({'abcdefghijklmnopqrstuvwxyz'[k]}) {heading}".rstrip()
+        if holder is None:
+            ax.set_title(text)
+        else:
+            holder.set_text(text)
+    return fig
+
+
+def log_axis(ax, which: str = "y") -> None:
+    """Put one axis of ``ax`` on a log scale with ticks a reader can read: plain numbers
+    (``0.5``, ``1``, ``2``, ``5``, ``10``) at 1, 2 and 5 times the powers of ten, and, on an
+    axis spanning at most about one decade, also labelled minor ticks at 1.5, 3 and 7 times
+    them (never matplotlib's ``4×10⁰``).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    which : {"x", "y"}
+        The axis.
+
+    Returns
+    -------
+    None
+        The axis of ``ax`` is changed in place.
+
+    Raises
+    ------
+    ValueError
+        If ``which`` is neither ``"x"`` nor ``"y"``.
+    """
+    if which not in ("x", "y"):
+        raise ValueError(f"which must be 'x' or 'y', got {which!r}")
+    getattr(ax, f"set_{which}scale")("log")
+    axis = getattr(ax, f"{which}axis")
+    axis.set_major_locator(matplotlib.ticker.LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_minor_locator(matplotlib.ticker.LogLocator(base=10.0, subs=(1.5, 3.0, 7.0)))
+    axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+
+    def minor(v, _):
+        lo, hi = sorted(getattr(ax, f"get_{which}lim")())
+        return f"{v:g}" if lo > 0 and np.log10(hi / lo) <= 1.25 else ""
+
+    axis.set_minor_formatter(matplotlib.ticker.FuncFormatter(minor))
 
 
 def errorbar_log(ax, x, y, err, *, label: str | None = None, xname: str = "x", **kwargs):

@@ -82,9 +82,10 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     default 256 trials x 1000 particles), 340 bytes per particle of a block for the exact no-
     feedback filter (83 MiB), plus the per-trial results (``n_trials * T * 5 * 8`` bytes).
 
-    A :class:`fusioncenter.censoring_vector.VectorScenario` or a
-    :class:`fusioncenter.censoring_nonlinear.NonlinearScenario` is handed to that module's
-    ``run`` with the same arguments (Part IV(b)).
+    A :class:`fusioncenter.censoring.vector.VectorScenario` or a
+    :class:`fusioncenter.censoring.nonlinear.NonlinearScenario` is handed to the ``run`` of
+    :mod:`fusioncenter.censoring.vector_fusion` or :mod:`fusioncenter.censoring.nonlinear`
+    with the same arguments (Part IV(b)).
 
     Parameters
     ----------

@@ -205,8 +205,8 @@ def local_error_recursion(sc, update) -> None:
 
 
 class Scenario:
-    """What the scenarios (:class:`LinearScenario`, ``censoring_vector.VectorScenario``,
-    ``censoring_nonlinear.NonlinearScenario``: frozen dataclasses keeping their
+    """What the scenarios (:class:`LinearScenario`, ``censoring.vector.VectorScenario``,
+    ``censoring.nonlinear.NonlinearScenario``: frozen dataclasses keeping their
     :class:`fusioncenter.particle.LinearGaussianDynamics` in ``_cache["dynamics"]``) share: the
     target's law, and the simulation of the true trajectories."""
 

@@ -252,7 +252,7 @@ def plot_mc(data: dict):
                                   label=f"{name}: Monte Carlo ± 1.96 s.e.")
         ax.plot(k, data["riccati_diag"][:, i], color=line.get_color(), ls="none", marker="o",
                 mfc="none", label=f"{name}: Riccati $P_{{k|k}}$")
-    ax.set_yscale("log")
+    plotting.log_axis(ax)  # plain numbers, not 4x10^0
     ax.set(xlabel="time step $k$",
            ylabel="mean squared error (m$^2$ | m$^2$/s$^2$)",
            title=f"{data['n_trials']} trials")

@@ -17,6 +17,7 @@ import hashlib
 import json
 import os
 import pickle
+import re
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -207,6 +208,9 @@ class Entry:
         One of ``STATUSES``: "not-started", "reproduced" or "differs".
     note : str
         How and why the result differs from the paper (required for ``"differs"``).
+    reason : str
+        The note in one line, for the caption of a ``"differs"`` entry ("Differs from Fig. 3
+        of ...: <reason>."); ``""``: the note's first sentence (:meth:`differs_reason`).
     seed : int
         The default seed of :meth:`run_compute`.
     settable : tuple of Parameter
@@ -234,6 +238,7 @@ class Entry:
     checks: Callable[[dict], list[Claim]] | None = None
     status: str = "not-started"
     note: str = ""
+    reason: str = ""
     seed: int = 20260101
     settable: tuple[Parameter, ...] = ()
     nonfinite_ok: tuple[str, ...] = ()
@@ -249,6 +254,23 @@ class Entry:
             raise ValueError(f"entry {self.id}: status {self.status!r} needs compute and checks")
         if self.status == "differs" and not self.note:
             raise ValueError(f"entry {self.id}: status 'differs' needs a note saying why")
+
+    def differs_reason(self) -> str:
+        """How the entry differs from the paper, in one line (no final full stop).
+
+        Returns
+        -------
+        str
+            :attr:`reason`, else the first sentence of :attr:`note`; ``""`` unless the status
+            is ``"differs"``.
+        """
+        if self.status != "differs":
+            return ""
+        text = (self.reason or self.note).strip()
+        if not self.reason:
+            m = re.match(r"(.+?[.!?])(\s+[A-Z(]|$)", text, re.S)
+            text = m[1] if m else text
+        return text.rstrip(". ")
 
     # -- running -------------------------------------------------------------------------
     def _need(self, what: str):
@@ -340,7 +362,11 @@ class Entry:
         return data
 
     def run_plot(self, data: dict):
-        return self._need("plot")(data)
+        """``plot(data)``, with each panel of a figure of several panels given its own letter
+        (:func:`fusioncenter.plotting.letter_panels`)."""
+        from fusioncenter import plotting
+
+        return plotting.letter_panels(self._need("plot")(data))
 
     def run_checks(self, data: dict) -> list[Claim]:
         """The entry's claims evaluated on ``data``.
@@ -576,8 +602,8 @@ def entries() -> list[Entry]:
 #: Modules that register entries: the book's own and one per part. Each may list the ids of the
 #: book's own figures it registers in ``OWN_IDS``; every id of ``figures.PAPER_IDS`` must be
 #: registered by one of them (``tests/test_registry_cli.py`` checks the exact set).
-_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014_vector",
-            "zheng2014_nonlinear", "synthesis")
+_MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014.vector",
+            "zheng2014.nonlinear", "synthesis")
 _LOADED = False
 
 

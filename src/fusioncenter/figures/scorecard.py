@@ -12,7 +12,8 @@ from collections import Counter
 
 from fusioncenter.figures.registry import PAPERS, entries
 
-__all__ = ["paper_reference", "scorecard_markdown", "figure_index_markdown", "status_counts"]
+__all__ = ["paper_reference", "scorecard_markdown", "figure_index_markdown", "status_counts",
+           "status_sentence", "status_rows"]
 
 _ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 7: "VII", 8: "VIII", 9: "IX",
           10: "X"}
@@ -176,3 +177,58 @@ def status_counts(paper: str | None = None) -> dict[str, int]:
     """
     counts = Counter(e.status for e in entries() if paper is None or e.paper == paper)
     return {s: counts.get(s, 0) for s in ("reproduced", "differs", "not-started")}
+
+
+def status_sentence(paper: str | None = None) -> str:
+    """The entries' statuses in one sentence, e.g. ``"14 registry entries: 8 reproduced, 6
+    differ from the paper."`` or ``"3 registry entries, all reproduced."``.
+
+    Parameters
+    ----------
+    paper : str, optional
+        Count only this paper's entries (default: all).
+
+    Returns
+    -------
+    str
+        The sentence (statuses no entry has are left out).
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is not a known paper.
+    """
+    _rows(paper)  # validates the paper
+    counts = status_counts(paper)
+    total = sum(counts.values())
+    if total == 0:
+        return "No registry entries yet."
+    head = f"{total} registry {'entry' if total == 1 else 'entries'}"
+    if counts["reproduced"] == total:
+        return f"{head}, {'reproduced' if total == 1 else 'all reproduced'}."
+    d = counts["differs"]
+    words = {"reproduced": f"{counts['reproduced']} reproduced",
+             "differs": f"{d} {'differs' if d == 1 else 'differ'} from the paper",
+             "not-started": f"{counts['not-started']} not started"}
+    return head + ": " + ", ".join(words[k] for k, n in counts.items() if n) + "."
+
+
+def status_rows() -> list[list]:
+    """One row per paper (and the book's own figures), then the total: the name, the number
+    of entries, and how many are reproduced, differ and are not started (for
+    :func:`fusioncenter.book.md_table` with the header ``["paper", "entries", "reproduced",
+    "differs", "not started"]``).
+
+    Returns
+    -------
+    list of list
+        ``[name, entries, reproduced, differs, not started]`` per paper, in the order of
+        :data:`~fusioncenter.figures.registry.PAPERS` (the book's own figures as ``"book's
+        own"``), and ``"total"`` last.
+    """
+    rows = []
+    for paper in (*PAPERS, None):
+        c = status_counts(paper)
+        name = {"book": "book's own", None: "total"}.get(paper, paper)
+        rows.append([name, sum(c.values()), *c.values()])
+    return rows

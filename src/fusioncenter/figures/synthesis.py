@@ -206,7 +206,7 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_frontier(data: dict):
-    """Position RMSE against measured transmissions per step (log scale, right: a zoom)."""
+    """Position RMSE against measured transmissions: (a) every scheme, log scale; (b) a zoom."""
     fig, axes = plotting.subplots(1, 2, stack=True)
     for c, ax in enumerate(axes):
         for key, scheme, name in [("trigger_grid", "trigger",
@@ -232,15 +232,15 @@ def plot_frontier(data: dict):
         ax.set(xlabel="measured transmissions per step (of 2 sensors)",
                ylabel="position RMSE, 20-step average (m)")
         if c == 0:
-            ax.set_yscale("log")
-            ax.set_title(f"{data['n_trials']} paired trials, {data['n_particles']} particles; "
-                         "bars: 1.96 s.e.")
+            plotting.log_axis(ax)
+            ax.set_title(f"(a) every scheme: {data['n_trials']} paired trials, "
+                         f"{data['n_particles']} particles; bars: 1.96 s.e.")
             ax.legend()
         else:
             lo = min(data["allsend_pos"][0], data["allsend_pf_pos"][0])
             hi = max(np.max(data["cfomd_pos"]), np.max(data["trigger_at_cfomd_pos"]))
             ax.set(xlim=(0.5, 2.1), ylim=(0.95 * lo, 1.05 * hi),
-                   title="zoom: the schemes that use silence")
+                   title="(b) zoom: the schemes that use silence")
     return plotting.finish(fig)
 
 
@@ -308,9 +308,9 @@ register_figure(
     id="synthesis-frontier",
     paper="book",
     caption="The accuracy-communication frontier of one tracking problem (zheng2014 Section "
-    "VII.A, two sensors): position and velocity RMSE against measured transmissions per step "
-    "for mo2015's stochastic trigger with its exact Kalman filter, zheng2014's NIS censoring "
-    "with CFwMD and CFoMD particle filters, random selection and all-send, on the same trials.",
+    "VII.A, two sensors): position RMSE against measured transmissions per step of mo2015's "
+    "trigger (exact Kalman filter), zheng2014's NIS censoring (CFwMD and CFoMD particle filters), "
+    "random selection and all-send, on the same trials: (a) every scheme, log scale; (b) a zoom.",
     chapter=CHAPTER,
     label="sec-synthesis-frontier",
     parameters={**PROBLEM, "l": list(FRONTIER_L), "trigger_rates": list(FRONTIER_GRID),
@@ -376,16 +376,18 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_cost(data: dict):
-    """Three panels: the operation count, the measured time and the excess RMSE."""
+    """(a) Operation count (CFoMD dashed on all-send's equal count), (b) time, (c) excess RMSE."""
     fig, axes = plotting.subplots(1, 3, stack=True)
     ax = axes[0]
     fine = data["particles_fine"]
-    for s, name in (("cfwmd", "CFwMD"), ("cfomd", "CFoMD"), ("all-send", "all-send")):
-        ax.loglog(fine, data[f"pf_flops_{s}"], label=f"particle filter, {name}",
-                  **plotting.look(s, marker="None"))
-    ax.axhline(data["kf_flops"], color=plotting.OKABE_ITO[0], label="Kalman filter (any scheme)")
+    same = np.array_equal(data["pf_flops_cfomd"], data["pf_flops_all-send"])
+    for k, (s, name) in enumerate((("cfwmd", "CFwMD"), ("all-send", "all-send"),
+                                   ("cfomd", "CFoMD" + " (same count as all-send)" * same))):
+        ax.loglog(fine, data[f"pf_flops_{s}"], label=f"particle filter, {name}", zorder=2 + k,
+                  markevery=(2 * k, 6), **plotting.look(s, ls="-" if k < 2 else "--"))
+    ax.axhline(data["kf_flops"], color="0.35", ls="-.", label="Kalman filter (any scheme)")
     ax.set(xlabel="particles $N_s$", ylabel="operations per step and trial (flops)",
-           title="operation count (model)")
+           title="(a) operation count (model)")
     ax.legend()
     ax = axes[1]
     p = data["particles"]
@@ -393,11 +395,11 @@ def plot_cost(data: dict):
               **plotting.look("cfwmd"))
     ax.loglog(p, 1e6 * data["pf_time_allsend"], label="particle filter, all-send",
               **plotting.look("all-send"))
-    ax.axhline(1e6 * data["kf_time"], color=plotting.OKABE_ITO[0], label="Kalman filter")
+    ax.axhline(1e6 * data["kf_time"], color="0.35", ls="-.", label="Kalman filter")  # grey
     ax.set_xticks(p, [str(int(q)) for q in p], minor=False)
     ax.minorticks_off()
     ax.set(xlabel="particles $N_s$", ylabel="wall time per step and trial (µs)",
-           title="measured on this machine (varies)")
+           title="(b) measured on this machine (varies)")
     ax.legend()
     ax = axes[2]
     rel = 100 * data["excess"] / data["kf_rmse"]
@@ -409,7 +411,7 @@ def plot_cost(data: dict):
     ax.set_xticks(p, [str(int(q)) for q in p], minor=False)
     ax.minorticks_off()
     ax.set(xlabel="particles $N_s$", ylabel="excess position RMSE (% of the KF's)",
-           title=f"what the particles buy ({data['n_trials']} trials)")
+           title=f"(c) what the particles buy ({data['n_trials']} trials)")
     ax.legend()
     return plotting.finish(fig)
 
@@ -450,9 +452,9 @@ register_figure(
     id="synthesis-cost",
     paper="book",
     caption="Computational cost per step of the Kalman filter (mo2015's trigger, random "
-    "selection, all-send) and of zheng2014's particle filter: an operation-count model, measured "
-    "wall time, and the all-send particle filter's excess RMSE over the exact Kalman filter as "
-    "particles are added.",
+    "selection, all-send) and of zheng2014's particle filter against the number of particles: "
+    "(a) an operation-count model, (b) measured wall time, and (c) the all-send particle "
+    "filter's excess RMSE over the exact Kalman filter.",
     chapter=CHAPTER,
     label="sec-synthesis-cost",
     parameters={**PROBLEM, "particles": COST_PARTICLES, "trials": COST_TRIALS},
@@ -572,7 +574,7 @@ _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 @plot_doc()
 def plot_fading(data: dict):
-    """RMSE and packets against the outage, error against tr P, RMSE at equal energy."""
+    """(a) RMSE, (b) packets against the outage; (c) error over tr P; (d) RMSE at equal energy."""
     fig, axes = plotting.subplots(2, 2, stack=True)
     (a, b), (c, d) = axes
     eps = data["outage"]
@@ -588,18 +590,18 @@ def plot_fading(data: dict):
         if key in ("allsend", "trigger_csi", "trigger_naive"):
             ratio = data[f"{key}_mse_state"] / data[f"{key}_trace"]
             c.plot(eps, ratio, label=name, **{k: v for k, v in style.items() if k != "capsize"})
-    a.set_yscale("log")
+    plotting.log_axis(a)
     a.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel="position RMSE, 20-step average (m)",
-          title=f"budget l = {data['l']:g}; {data['n_trials']} paired trials")
+          title=f"(a) budget l = {data['l']:g}; {data['n_trials']} paired trials")
     a.legend()
     b.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel="transmissions per step (packets sent)",
-          title="what each scheme spends (all-send: 2)")
+          title="(b) what each scheme spends (all-send: 2)")
     c.axhline(1.0, color="0.5", lw=0.8)
     c.set(xlabel=r"outage probability $\varepsilon$ per packet",
           ylabel=r"mean $\|x - \hat x\|^2$ / mean tr $P$ (-)",
-          title="does the Kalman filter know its own error?")
+          title="(c) does the Kalman filter know its own error?")
     c.legend()
     e1 = data["energy_outage_full"]
     for key, name, scheme in [("energy_allsend", "all-send at $\\varepsilon_1$", "all-send"),
@@ -608,10 +610,10 @@ def plot_fading(data: dict):
                                "trigger")]:
         d.errorbar(e1, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], capsize=2,
                    label=name, **plotting.look(scheme))
-    d.set_yscale("log")
+    plotting.log_axis(d)
     d.set(xlabel=r"outage $\varepsilon_1$ of one packet per sensor and step",
           ylabel="position RMSE, 20-step average (m)",
-          title="energy, not packets, as the budget")
+          title="(d) energy, not packets, as the budget")
     d.legend()
     return plotting.finish(fig)
 
@@ -680,10 +682,9 @@ register_figure(
     id="synthesis-fading",
     paper="book",
     caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; a "
-    "packet is lost when the power gain is below a threshold): position RMSE and packets sent "
-    "against the outage probability, with a receiver that knows the channel gains and a naive "
-    "one that reads a missing packet as silence; and with energy rather than packets as the "
-    "budget.",
+    "packet is lost when the power gain is below a threshold), the receiver knowing the gains or "
+    "naive (a missing packet read as silence): (a) position RMSE and (b) packets sent against the "
+    "outage; (c) Kalman filters' mean squared error over mean tr P; (d) RMSE at equal energy.",
     chapter=CHAPTER,
     label="sec-synthesis-fading",
     parameters={**PROBLEM, "l": FADING_L, "outages": list(OUTAGES), "channel":

@@ -10,9 +10,14 @@
   Proposition 3 as printed (it equals CFoMD: erratum), corrected, and the exact filter.
 * ``zheng2014-table1-choices`` (the book's own): Table I under the choices the paper leaves open.
 
-The package is split in four: :mod:`~fusioncenter.figures.zheng2014.common` (what these
-entries share with those of :mod:`fusioncenter.figures.zheng2014_vector` and
-:mod:`fusioncenter.figures.zheng2014_nonlinear`: run sizes, curves, paired differences, plots,
+The entries of Part IV(b) are registered by the package's modules
+:mod:`~fusioncenter.figures.zheng2014.vector` (Section VII.B: Figs. 4-6 and Table II) and
+:mod:`~fusioncenter.figures.zheng2014.nonlinear` (Section VII.C: Figs. 7-10 and Table III);
+they are not imported here (the registry loads them).
+
+The scalar entries are split in four: :mod:`~fusioncenter.figures.zheng2014.common` (what these
+entries share with those of :mod:`~fusioncenter.figures.zheng2014.vector` and
+:mod:`~fusioncenter.figures.zheng2014.nonlinear`: run sizes, curves, paired differences, plots,
 claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-3 and Table I),
 :mod:`~fusioncenter.figures.zheng2014.choices` (the book's own sensitivity table) and
 :mod:`~fusioncenter.figures.zheng2014.contrasts` (the paired contrasts of the nonlinear

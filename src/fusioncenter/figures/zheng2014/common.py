@@ -2,8 +2,8 @@
 
 The scalar entries (:mod:`fusioncenter.figures.zheng2014.linear`,
 :mod:`fusioncenter.figures.zheng2014.choices`), the vector ones
-(:mod:`fusioncenter.figures.zheng2014_vector`) and the nonlinear ones
-(:mod:`fusioncenter.figures.zheng2014_nonlinear`) use these pieces:
+(:mod:`fusioncenter.figures.zheng2014.vector`) and the nonlinear ones
+(:mod:`fusioncenter.figures.zheng2014.nonlinear`) use these pieces:
 
 * the settable parameters (:func:`settable`) and the run sizes they give (:func:`run_size`);
 * the data of a run as curves (:func:`curves`, :func:`stacked`), paired differences
@@ -570,18 +570,18 @@ def by_l_panels(data: dict, *, l_ticks: bool = False):
     Returns
     -------
     matplotlib.figure.Figure
-        (a) The position RMSE of CFwMD and of CFwMD2 against time, one curve per ``l`` (one
-        panel per scheme); (b) their time averages against ``l``.
+        The position RMSE against time, one curve per ``l``, of (a) CFwMD and (b) CFwMD2;
+        (c) their time averages against ``l``.
     """
     fig, (ax1, ax1b, ax2) = plotting.subplots(3, 1, stack=True)
     t = data["time"]
-    for j, (ax, name) in enumerate(((ax1, "cfwmd"), (ax1b, "cfwmd2"))):
+    for j, (ax, name, letter) in enumerate(((ax1, "cfwmd", "a"), (ax1b, "cfwmd2", "b"))):
         shades = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.85, len(data["l"])))
         for i, l in enumerate(data["l"]):  # an ordered parameter: a sequential palette
             ax.plot(t, data["rmse_position"][j, i], color=shades[i],
                     ls=plotting.SCHEMES[name]["linestyle"], label=f"l = {l:g}")
         ax.set(xlabel="time (s)", ylabel="position RMSE (m)",
-               title=f"(a) {LABELS[name]}, N = {data['N']}, by l")
+               title=f"({letter}) {LABELS[name]}, N = {data['N']}, by l")
         ax.legend(ncol=5)
     lo = min(ax1.get_ylim()[0], ax1b.get_ylim()[0])
     hi = max(ax1.get_ylim()[1], ax1b.get_ylim()[1])
@@ -592,7 +592,7 @@ def by_l_panels(data: dict, *, l_ticks: bool = False):
                      yerr=1.96 * data["tavg_position_stderr"][j], capsize=3,
                      label=LABELS[name], **plotting.look(name))
     ax2.set(xlabel="target number of transmissions per step l (-)",
-            ylabel="time-averaged position RMSE (m)", title="(b) time average, 95 % bars")
+            ylabel="time-averaged position RMSE (m)", title="(c) time average, 95 % bars")
     if l_ticks:
         ax2.set_xticks(data["l"])
     ax2.legend(ncol=2)

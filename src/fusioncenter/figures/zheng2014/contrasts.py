@@ -1,6 +1,6 @@
 """Paired contrasts of runs that share their trials (the nonlinear entries of zheng2014).
 
-The runs of :mod:`fusioncenter.figures.zheng2014_nonlinear` share the truth and the
+The runs of :mod:`fusioncenter.figures.zheng2014.nonlinear` share the truth and the
 measurements of every trial, so a weighted sum of their time-averaged RMSEs
 (:func:`contrast`) or of their average numbers of transmissions per step
 (:func:`tx_contrast`) has a paired standard error: the per-trial (influence) values of the

@@ -5,7 +5,7 @@ are Fig. 4's (all-send and random selection use neither what is fed back nor the
 :data:`BLIND`), and the "as chosen" row of ``zheng2014-table1-choices`` is the first trials of
 Fig. 2's runs. :func:`kept_run` runs a scheme once per process and hands the run (or its first
 trials) to every entry of :mod:`fusioncenter.figures.zheng2014` and
-:mod:`fusioncenter.figures.zheng2014_vector` that asks for it again.
+:mod:`fusioncenter.figures.zheng2014.vector` that asks for it again.
 
 A run is identified by everything that fixes its numbers: the scenario (all its fields; scalar
 or vector observations), the scheme, what is fed back and the likelihood (where they matter),
@@ -34,8 +34,8 @@ from collections import OrderedDict
 from pathlib import Path
 
 from fusioncenter import censoring as cs
-from fusioncenter import censoring_vector as cv
 from fusioncenter import montecarlo
+from fusioncenter.censoring import vector as cv
 from fusioncenter.figures.registry import CACHE_ENV, locked, read_cached, write_cached
 from fusioncenter.figures.zheng2014.common import run_scheme, subset
 

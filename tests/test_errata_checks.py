@@ -1,4 +1,4 @@
-"""Executable checks of the errata added for issue 17, item 7 (book/errata.md, last section).
+"""Executable checks of the errata found on a second reading (book/errata.md, last section).
 
 Each test is cited from a row of the errata page. They re-derive a printed formula against the
 model it claims to follow: a Kalman step, a quadrature, or a Monte Carlo simulation.
