@@ -16,7 +16,7 @@ help:
 	@echo "make golden     regenerate tests/golden/*.ipynb from the chapters"
 	@echo "make bench      run benchmarks/ and print medians and ratios"
 	@echo "make lab        open the chapters as notebooks in JupyterLab (.md opens as a notebook)"
-	@echo "make pdf        the whole book as one PDF -> _build/pdf/book.pdf (builds the site if missing)"
+	@echo "make pdf        the book as PDFs -> _build/pdf/book.pdf, api.pdf, chapters/ (builds the site if missing)"
 	@echo "make test-pythons  every library test (the heavy ones too) on Python 3.12 and 3.13 (pyenv)"
 	@echo "make test-student  downloaded notebooks run offline in a fresh Python 3.12 (needs the fast build)"
 	@echo "make lock       re-resolve requirements/requirements.in into requirements/lock.txt"
