@@ -17,16 +17,21 @@ and fails (Chromium resolves no other host). For each page it checks:
   math element, left no raw TeX delimiters (``\\(``, ``\\[``, ``$$``) visible in them, reported no
   TeX error (``mjx-merror``) nor undefined macro (drawn in red by MathJax's noundefined
   extension), and its woff fonts were loaded from the site itself.
-* at 1280 px, no element of the main text (tables, outputs, display math, paragraphs...) has
-  content wider than its box, except code listings the page marks as scrollable
-  (``fc-scroll-code``); counts per page and in total are printed (``check_layout``);
+* at 1280 px, no element of the main text (tables, outputs, display math, paragraphs, code
+  listings...) has content wider than its box, and no page is taller than 60 000 px; counts
+  per page and in total are printed (``check_layout``);
 * at 400 px (a phone), the same, except that content may also sit in a box that scrolls
   sideways inside the column (a wide table of numbers, a long equation, a figure kept at its
   legible width); each registry figure there keeps panels >= 500 px wide and fonts >= 11 px in
   such a box;
 * no page (text, titles, link texts) and no title of the search index contains unrendered
   MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
-  (``check_markup``).
+  (``check_markup``);
+* a chapter reads as a book (``check_reading``, from the served HTML): no image in a cell's
+  output outside a numbered, captioned figure; no output that prints a dict or list repr, a
+  bare ``True``/``False``, ``array(`` or ``Matrix(``; no ASCII stand-in for mathematics
+  (``x_hat``, ``sigma_v``, ``h^T``, ``sqrt(``) in a chapter's prose, tables, headings, captions
+  or printed output; the median chapter page shows at most 80 lines of unfolded code.
 
 Importable: ``check_site(html_dir) -> list[str]`` returns the problems (empty when all is well).
 A missing browser or playwright is a problem, never a skip. Exit status 1 on any problem.
@@ -394,6 +399,15 @@ def check_site(
         f"{sum(1 for v in markup_counts.values() if v)} of {len(markup_counts)} files "
         "(pages and searchindex.js)")
     site_problems += markup_problems
+    reading_problems, code_lines = check_reading(html_dir)
+    if code_lines:
+        import statistics
+
+        worst = max(code_lines, key=code_lines.get)
+        say(f"reading: {len(code_lines)} chapter pages, unfolded code lines median "
+            f"{statistics.median(code_lines.values()):g}, most {code_lines[worst]} ({worst}); "
+            f"{len(reading_problems)} problems (loose images, reprs, ASCII mathematics)")
+    site_problems += reading_problems
     n_ok = sum(r.ok for r in results)
     say(f"{len(results)} pages, {math_pages} with typeset math, {images} images loaded")
     say(registry_figure_summary())
@@ -486,6 +500,7 @@ async () => {
     const img = fig.querySelector('img');
     const facts = fig.querySelector('.fc-facts');
     const r = {id: fig.id, hasImg: !!img, hasFacts: !!facts,
+               book: fig.classList.contains('fc-book-figure'),
                number: (fig.querySelector('.caption-number') || {}).textContent || '',
                alt: img ? img.getAttribute('alt') || '' : '',
                linked: !!(img && img.closest('a[href]')), links: []};
@@ -523,7 +538,10 @@ async () => {
 # out of the column. Only the outermost clipped element of a nest is counted. The one exception
 # is a code listing the page marks as scrollable (class ``fc-scroll-code``, set by
 # book/_ext/scroll_code.py) whose ``<pre>`` really scrolls (``overflow-x: auto|scroll``):
-# counted apart as scrollable code, never a problem.
+# counted apart. At 1280 px such a listing is still a problem (a code line is never cut at the
+# column's edge: chapters keep their code within 79 characters, tools/lint_chapters.py); at
+# 400 px it scrolls in its box. The page's height at 1280 px (collapsed blocks closed) is at
+# most MAX_PAGE_HEIGHT.
 #
 # Every page is then laid out at 400 px (NARROW_VIEWPORT, a phone) and measured again. There,
 # content wider than its box may also sit in a box that scrolls sideways (``overflow-x:
@@ -538,6 +556,8 @@ async () => {
 # ============================================================================================
 
 VIEWPORT = {"width": 1280, "height": 900}
+#: No page is taller than this at 1280 px (CSS px, collapsed blocks closed): about 67 screens.
+MAX_PAGE_HEIGHT = 60_000
 LAYOUT_VIEWPORTS = (VIEWPORT, NARROW_VIEWPORT)
 SCROLL_CODE_CLASS = "fc-scroll-code"
 _OVERFLOW_SELECTOR = ", ".join([
@@ -549,6 +569,8 @@ _OVERFLOW_SELECTOR = ", ".join([
 # Runs in a loaded (and typeset) page; returns the clipped elements and the scrollable code.
 _OVERFLOW_JS = r"""
 async ([selector, scrollClass, boxes]) => {
+  const STATEMENTS = ['theorem', 'lemma', 'proposition', 'corollary', 'definition',
+                      'conjecture', 'criterion'].map(k => 'div.proof.' + k).join(', ');
   document.querySelectorAll('details').forEach(d => { d.open = true; });
   document.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
   await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
@@ -557,6 +579,7 @@ async ([selector, scrollClass, boxes]) => {
   const col = main.getBoundingClientRect();
   const flagged = [];
   const clipped = [];
+  const scrolled = [];  // code listings wider than their box (the first three)
   let scrollable = 0, measured = 0, inBox = 0;
   const scrollBox = el => {  // the nearest box (el or an ancestor in the column) that scrolls
     for (let e = el; e && e !== main.parentElement; e = e.parentElement) {
@@ -579,21 +602,30 @@ async ([selector, scrollClass, boxes]) => {
     // a formula wider than its line scrolls in its own box (book/_static/wide-math.js): fine
     // at 400 px, clipped at 1280 px (no formula may need it there)
     const wide = inlineMath && el.classList.contains('fc-wide-math');
-    if (wide && boxes) {
+    // a theorem's statement is read without scrolling sideways, on a phone too
+    const statement = el.closest(STATEMENTS);
+    if (wide && boxes && !statement) {
       inBox += 1;
       flagged.push(el);
       continue;
     }
-    if (inner <= 1 && outer <= 1 && !wide) continue;
+    // in a statement, a wide inline formula counts only if its own box really scrolls
+    const scrolls = wide && statement ? el.scrollWidth - el.clientWidth > 1 : wide;
+    if (inner <= 1 && outer <= 1 && !scrolls) continue;
     const code = el.closest('.' + scrollClass);
     const pre = code && (el.tagName === 'PRE' ? el : el.querySelector('pre'));
     if (code && pre && /^(auto|scroll)$/.test(getComputedStyle(pre).overflowX)) {
       scrollable += 1;
       flagged.push(el);
+      if (scrolled.length < 3) {
+        const line = (pre.textContent || '').split('\n')
+          .reduce((a, b) => (b.length > a.length ? b : a), '');
+        scrolled.push({excess: Math.round(inner), text: line.trim().slice(0, 70)});
+      }
       continue;
     }
     flagged.push(el);
-    const box = boxes ? scrollBox(el) : null;
+    const box = boxes && !statement ? scrollBox(el) : null;
     if (box) {
       const b = box.getBoundingClientRect();
       if (b.right - col.right <= 1 && col.left - b.left <= 1) { inBox += 1; continue; }
@@ -603,7 +635,7 @@ async ([selector, scrollClass, boxes]) => {
                   excess: Math.round(Math.max(inner, outer)), width: Math.round(r.width),
                   text: (el.textContent || '').replace(/\s+/g, ' ').trim().slice(0, 70)});
   }
-  return {clipped, scrollable, inBox, measured, column: Math.round(col.width)};
+  return {clipped, scrollable, scrolled, inBox, measured, column: Math.round(col.width)};
 }
 """
 
@@ -657,7 +689,8 @@ def check_registry_figures(res, found: list[dict], narrow: list[dict]) -> None:
                     x["status"] = r.status
             except OSError as exc:
                 x["status"] = str(exc)
-        if len(f["links"]) < 2 or any(x["status"] != 200 for x in f["links"]):
+        if not f.get("book") and (len(f["links"]) < 2
+                                  or any(x["status"] != 200 for x in f["links"])):
             res.problems.append(f"{where}: data downloads missing or broken: {f['links']}")
         if not f.get("natural"):
             continue
@@ -710,6 +743,8 @@ class LayoutResult:
     column: int = 0
     width: int = VIEWPORT["width"]
     in_box: int = 0
+    scrolled: list[dict] = field(default_factory=list)
+    height: int = 0
 
     def line(self) -> str:
         boxed = f", {self.in_box} in a scrolling box" if self.width != VIEWPORT["width"] else ""
@@ -718,19 +753,35 @@ class LayoutResult:
                 f"measured in a {self.column} px column")
 
     def problems(self) -> list[str]:
-        return [f"page {self.path}: content wider than its box at {self.width} px: "
-                f"{c['what']} ({c['width']} px, {c['excess']} px too wide): {c['text']!r}"
-                for c in self.clipped]
+        out = [f"page {self.path}: content wider than its box at {self.width} px: "
+               f"{c['what']} ({c['width']} px, {c['excess']} px too wide): {c['text']!r}"
+               for c in self.clipped]
+        if self.width == VIEWPORT["width"]:
+            # at 1280 px a code listing fits its box: no line is cut at the column's edge
+            out += [f"page {self.path}: {self.scrollable_code} code listing(s) wider than "
+                    f"their box at {self.width} px, e.g. {c['excess']} px too wide: "
+                    f"{c['text']!r}" for c in self.scrolled[:1]]
+            if self.height > MAX_PAGE_HEIGHT:
+                out.append(f"page {self.path}: {self.height} px tall at {self.width} px "
+                           f"(> {MAX_PAGE_HEIGHT}): split it")
+        return out
 
 
 def check_layout(page, path: str, viewport: dict = VIEWPORT) -> LayoutResult:
     """Measure the clipped elements of the page that is loaded (and typeset) in ``page``, with
     the window at ``viewport``; below 1280 px a box that scrolls sideways holds its content."""
     boxes = viewport["width"] != VIEWPORT["width"]
-    info = _at(page, viewport, lambda: page.evaluate(
-        _OVERFLOW_JS, [_OVERFLOW_SELECTOR, SCROLL_CODE_CLASS, boxes]))
+
+    def measure():
+        # the height as the reader first sees it (collapsed blocks closed), then the layout
+        height = page.evaluate("() => document.documentElement.scrollHeight")
+        return height, page.evaluate(_OVERFLOW_JS, [_OVERFLOW_SELECTOR, SCROLL_CODE_CLASS,
+                                                    boxes])
+
+    height, info = _at(page, viewport, measure)
     return LayoutResult(path, info["clipped"], info["scrollable"], info["measured"],
-                        info["column"], viewport["width"], info["inBox"])
+                        info["column"], viewport["width"], info["inBox"], info["scrolled"],
+                        int(height))
 
 
 def layout_summary(results: list[LayoutResult]) -> str:
@@ -740,9 +791,11 @@ def layout_summary(results: list[LayoutResult]) -> str:
         pages = sum(1 for r in rs if r.clipped)
         boxed = (f", {sum(r.in_box for r in rs)} elements in a scrolling box"
                  if width != VIEWPORT["width"] else "")
+        tall = max(rs, key=lambda r: r.height)
         lines.append(f"layout: {sum(len(r.clipped) for r in rs)} clipped elements on {pages} "
                      f"of {len(rs)} pages at {width} px, "
-                     f"{sum(r.scrollable_code for r in rs)} scrollable code listings{boxed}")
+                     f"{sum(r.scrollable_code for r in rs)} code listings wider than their "
+                     f"box{boxed}; tallest page {tall.height} px ({tall.path})")
     return "\n".join(lines)
 
 
@@ -853,6 +906,159 @@ def check_markup(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict[str,
     else:
         problems.append("searchindex.js missing: the search index cannot be checked")
     return problems, counts
+
+
+# ============================================================================================
+# A chapter reads as a book (issue 27), read from the served HTML of every chapter page
+# (``book/<part>/<chapter>.html``; the API reference and the index pages are not chapters):
+# images in a cell's output that are not a numbered, captioned figure; outputs printing a
+# Python repr or a bare boolean; ASCII stand-ins for mathematics in prose, tables, headings,
+# captions and outputs; lines of unfolded code (cells not tagged hide-input/hide-cell).
+# ============================================================================================
+
+#: The median chapter page shows at most this many non-blank lines of unfolded code.
+MAX_MEDIAN_CODE_LINES = 80
+#: Printed output that is a Python repr or a bare boolean, not a result for a reader.
+REPR_OUTPUT = [
+    ("bare boolean", re.compile(r"^\s*(?:True|False)\s*$|:\s*(?:True|False)\s*$", re.M)),
+    ("array repr", re.compile(r"\barray\(")),
+    ("Matrix repr", re.compile(r"\b(?:Immutable)?(?:Dense)?Matrix\(\[")),
+    ("dict repr", re.compile(r"\{\s*'[^'\n]*'\s*:|\{\s*\"[^\"\n]*\"\s*:")),
+    ("list repr", re.compile(r"\[\s*'[^'\n]*'\s*,|\[\s*-?\d[\d.e+-]*\s*,\s*-?\d[\d.e+-]*"
+                             r"(?:\s*,\s*-?\d[\d.e+-]*)*\s*\]|\[\s*-?\d[\d.e+-]*"
+                             r"(?:\s+-?\d[\d.e+-]*){2,}\s*\]")),
+]
+#: ASCII stand-ins for mathematics (typeset them, or write Unicode: x̂, σᵥ, hᵀ, √).
+_GREEK = ("alpha|beta|gamma|delta|epsilon|zeta|eta|theta|kappa|lambda|mu|nu|xi|pi|rho|sigma|"
+          "tau|phi|chi|psi|omega|Gamma|Delta|Sigma|Phi|Psi|Omega|Lambda|Theta")
+ASCII_MATH = [
+    ("hat name", re.compile(r"\b[A-Za-z]+_hat(?![A-Za-z])|\bhat_[A-Za-z]")),
+    ("Greek name with index", re.compile(rf"\b(?:{_GREEK})(?:_\{{?[A-Za-z0-9]|\^\d)")),
+    ("TeX subscript", re.compile(r"\b[A-Za-z]_\{[^}\s]{1,12}\}")),
+    ("transpose", re.compile(r"\b[A-Za-z]\^T\b")),
+    ("sqrt", re.compile(r"\bsqrt\(")),
+]
+
+
+def find_repr_output(text: str) -> list[tuple[str, str]]:
+    """The (kind, excerpt) of every Python repr or bare boolean in printed output ``text``."""
+    return [(kind, " ".join(text[max(0, m.start() - 30):m.end() + 30].split()))
+            for kind, rx in REPR_OUTPUT for m in rx.finditer(text)]
+
+
+def find_ascii_math(text: str) -> list[tuple[str, str]]:
+    """The (kind, excerpt) of every ASCII stand-in for mathematics in ``text``."""
+    return [(kind, " ".join(text[max(0, m.start() - 30):m.end() + 30].split()))
+            for kind, rx in ASCII_MATH for m in rx.finditer(text)]
+
+
+class _Reading(HTMLParser):
+    """What a chapter page shows: unfolded code lines, output texts, output images outside a
+    captioned figure, and its prose (outside math, code and outputs)."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.stack: list[tuple[str, set[str]]] = []
+        self.code_lines = 0
+        self.outputs: list[str] = []
+        self.loose_images: list[str] = []
+        self.prose: list[str] = []
+        self._code: list[str] | None = None
+        self._out: list[str] | None = None
+        self._out_depth = 0
+
+    def _has(self, cls: str) -> bool:
+        return any(cls in c for _t, c in self.stack)
+
+    def _tag(self, tag: str) -> bool:
+        return any(t == tag for t, _c in self.stack)
+
+    def handle_starttag(self, tag, attrs):
+        a = {k: (v or "") for k, v in attrs}
+        classes = set(a.get("class", "").split())
+        if tag == "img":
+            if self._has("cell_output") and not self._tag("figure"):
+                self.loose_images.append(a.get("src", "")[-40:])
+            return
+        if tag in _VOID_TAGS:
+            return
+        self.stack.append((tag, classes))
+        if tag == "pre" and self._has("cell_input") and self._code is None:
+            folded = (self._has("tag_hide-input") or self._has("tag_hide-cell")
+                      or self._tag("details"))
+            self._code = [] if not folded else None
+        if "cell_output" in classes and self._out is None:
+            self._out, self._out_depth = [], len(self.stack)
+
+    def handle_endtag(self, tag):
+        if tag in _VOID_TAGS or not self.stack:
+            return
+        while self.stack:
+            t, _c = self.stack.pop()
+            if tag == "pre" and t == "pre" and self._code is not None:
+                self.code_lines += sum(1 for line in "".join(self._code).splitlines()
+                                       if line.strip())
+                self._code = None
+            if self._out is not None and len(self.stack) < self._out_depth:
+                self.outputs.append("".join(self._out))
+                self._out = None
+            if t == tag:
+                break
+
+    def handle_data(self, data):
+        if self._code is not None:
+            self._code.append(data)
+        math = self._has("math") or self._tag("mjx-container")
+        if self._out is not None:
+            if not math:
+                self._out.append(data)
+            return
+        if not (math or self._tag("pre") or self._tag("code") or self._tag("script")
+                or self._tag("style") or self._has("cell_input") or self._has("highlight")):
+            self.prose.append(data)
+
+
+def is_chapter(rel: str) -> bool:
+    """A chapter page of the book (``book/<part>/<chapter>.html``, not a part's index)."""
+    parts = rel.split("/")
+    return len(parts) == 3 and parts[0] == "book" and parts[2] != "index.html"
+
+
+def read_page(text: str) -> _Reading:
+    parser = _Reading()
+    parser.feed(text)
+    parser.close()
+    return parser
+
+
+def check_reading(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict]:
+    """The reading checks of every chapter page: (problems, per-page visible code lines)."""
+    html_dir = Path(html_dir)
+    problems: list[str] = []
+    code: dict[str, int] = {}
+    for path in list_pages(html_dir):
+        rel = path.relative_to(html_dir).as_posix()
+        if not is_chapter(rel):
+            continue
+        page = read_page(path.read_text(encoding="utf-8", errors="replace"))
+        code[rel] = page.code_lines
+        problems += [f"page {rel}: an output image outside a numbered, captioned figure "
+                     f"(...{src})" for src in page.loose_images]
+        for out in page.outputs:
+            problems += [f"page {rel}: output prints a {kind}: {ex!r}"
+                         for kind, ex in find_repr_output(out)]
+            problems += [f"page {rel}: ASCII mathematics in an output ({kind}): {ex!r}"
+                         for kind, ex in find_ascii_math(out)]
+        problems += [f"page {rel}: ASCII mathematics in the text ({kind}): {ex!r}"
+                     for kind, ex in find_ascii_math(" ".join(page.prose))]
+    if code:
+        import statistics
+
+        median = statistics.median(code.values())
+        if median > MAX_MEDIAN_CODE_LINES:
+            problems.append(f"the median chapter page shows {median:g} lines of unfolded code "
+                            f"(> {MAX_MEDIAN_CODE_LINES})")
+    return problems, code
 
 
 def main(argv: list[str] | None = None) -> int:

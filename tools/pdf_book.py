@@ -23,11 +23,13 @@ import functools
 import html
 import http.server
 import io
+import shutil
 import socketserver
 import sys
 import threading
 import time
 from pathlib import Path
+from urllib.parse import unquote, urlsplit
 
 import yaml
 
@@ -37,6 +39,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY, VIEWPORT  # noqa: E402
 from chapters import ROOT  # noqa: E402
 
+#: Pages under this prefix (the API reference's module pages) are printed into api.pdf.
+APPENDIX = "book/api/"
 PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14mm",
                                    "right": "14mm"}}
 
@@ -69,7 +73,14 @@ td, th { word-break: normal !important; overflow-wrap: break-word !important;
   hyphens: auto; }
 img { max-width: 100% !important; height: auto !important; page-break-inside: avoid;
       break-inside: avoid; }
-figure.fc-registry-figure img { min-width: 0 !important; }  /* a phone's rule, not paper's */
+/* a figure stays whole with its caption: no image taller than what a page holds beside its
+   caption (A4 less the margins is 263 mm), so a tall stacked figure shrinks instead of being
+   pushed to the next page (leaving a blank one) and cut there */
+figure, .cell_output img { break-inside: avoid !important; page-break-inside: avoid; }
+figure img, .cell_output img { max-height: 200mm !important; width: auto !important;
+  min-width: 0 !important; margin: 0 auto; display: block; }
+figure figcaption { break-before: avoid; }
+tr, .admonition-title, .caption { break-inside: avoid; }
 h1, h2, h3 { break-after: avoid; }
 details > *:not(summary) { display: block !important; opacity: 1 !important; }
 details.hide > summary { display: none !important; }
@@ -93,11 +104,62 @@ async () => {
   }
   if (document.fonts && document.fonts.ready) { await document.fonts.ready; }
   const h1 = document.querySelector('article h1, main h1, h1');
-  const title = h1 ? h1.textContent.replace(/[#\\u00b6]/g, '').trim() : document.title;
+  let title = document.title;
+  if (h1) {  // the title without the chapter number the site puts before it
+    const c = h1.cloneNode(true);
+    c.querySelectorAll('.section-number, .fc-pdf-number').forEach(e => e.remove());
+    title = c.textContent.replace(/[#\\u00b6]/g, '').trim();
+  }
   const raw = Array.from(document.querySelectorAll('.math')).filter(el => {
     const c = el.cloneNode(true); c.querySelectorAll('mjx-container').forEach(m => m.remove());
     return /\\$\\$|\\\\\\(|\\\\\\[/.test(c.textContent); }).length;
   return {title: title, rawMath: raw, images: imgs.filter(i => i.naturalWidth > 0).length};
+}
+"""
+
+
+# Every element with an id becomes a PDF destination: Chromium writes a named destination for
+# each target of a same-page link, so a hidden same-page link to every id makes all of them
+# targets (Printer.write turns the links between pages into links inside the PDF).
+TARGETS_JS = """
+() => {
+  const box = document.createElement('div');
+  box.style.display = 'none';
+  box.className = 'fc-pdf-targets';
+  let n = 0;
+  for (const el of document.querySelectorAll('article [id], main [id]')) {
+    if (!el.id || el.closest('mjx-container, svg')) continue;
+    const a = document.createElement('a');
+    a.href = '#' + encodeURIComponent(el.id);
+    box.appendChild(a);
+    n += 1;
+  }
+  document.body.appendChild(box);
+  return n;
+}
+"""
+
+
+# The chapter's sections (``<section id=...><h2>``): bookmarks under the chapter's own; and the
+# chapter's number before its title (the site numbers figures and exercises by chapter).
+SECTIONS_JS = """
+() => Array.from(document.querySelectorAll('article section > h2')).map(h => {
+  const c = h.cloneNode(true);
+  const num = c.querySelector('.section-number');
+  const n = num ? num.textContent.trim().replace(/\\.$/, '') : '';
+  if (num) num.remove();
+  return [h.parentElement.id, n, c.textContent.replace(/[#\\u00b6]/g, '').trim()];
+}).filter(s => s[0])
+"""
+NUMBER_JS = """
+(num) => {
+  const h1 = document.querySelector('article h1');
+  if (h1 && num && !/^\\s*\\d/.test(h1.textContent)) {
+    const s = document.createElement('span');
+    s.className = 'fc-pdf-number';
+    s.textContent = num + '\\u2002';
+    h1.prepend(s);
+  }
 }
 """
 
@@ -130,39 +192,72 @@ def toc_entries() -> list[tuple[str | None, str]]:
     return out
 
 
+def chapter_numbers() -> dict[str, str]:
+    """The chapter number of every page of a numbered part of ``_toc.yml`` (``numbered`` on the
+    part; ``use_multitoc_numbering`` runs the numbers on across the parts): the numbers the
+    site gives its figures ("Fig. 25.2") and exercises."""
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
+    out, n = {}, 0
+    for part in toc.get("parts", []):
+        for ch in part.get("chapters", []) or []:
+            if part.get("numbered"):
+                n += 1
+                out[ch["file"]] = str(n)
+    return out
+
+
+#: The body's typeface on the page (the theme's system stack, as Chromium resolves it here):
+#: the title page, the contents and the running heads use it too.
+BODY_FONT = ("-apple-system, BlinkMacSystemFont, 'Segoe UI', 'Liberation Sans', "
+             "'DejaVu Sans', sans-serif")
+
+
 def _html_doc(body: str, css: str = "") -> str:
     return ("<!doctype html><html><head><meta charset='utf-8'><style>"
-            "body{font-family:'DejaVu Serif',serif;} " + css + "</style></head><body>"
-            + body + "</body></html>")
+            f"body{{font-family:{BODY_FONT};}} a{{color:inherit;text-decoration:none}} "
+            + css + "</style></head><body>" + body + "</body></html>")
 
 
-def _front_matter(title: str, author: str, entries, starts: list[int] | None) -> tuple[str, str]:
+def _front_matter(title: str, author: str, entries, starts: list[int] | None,
+                  origin: str = "") -> tuple[str, str]:
     title_html = _html_doc(
         f"<div style='margin-top:35%;text-align:center'><h1 style='font-size:26pt'>"
         f"{html.escape(title)}</h1><p style='font-size:13pt'>{html.escape(author)}</p>"
         f"<p style='font-size:11pt;color:#555'>Printed from the book's site on "
         f"{time.strftime('%Y-%m-%d')}.</p></div>")
     rows, last_part = [], object()
-    for i, (part, _doc, name) in enumerate(entries):
+    numbers = chapter_numbers()
+    for i, (part, doc, name) in enumerate(entries):
         if part != last_part and part:
             rows.append(f"<tr><td colspan=2 style='padding-top:9pt'><b>{html.escape(part)}</b>"
                         "</td></tr>")
         last_part = part
         page = str(starts[i]) if starts else "000"
-        rows.append(f"<tr><td style='padding-left:{12 if part else 0}pt'>{html.escape(name)}"
-                    f"</td><td style='text-align:right'>{page}</td></tr>")
+        num = f"{numbers[doc]}&ensp;" if doc in numbers else ""
+        # a link to the chapter's page on the print server: relink() points it into the PDF
+        href = html.escape(f"{origin}/{doc}.html")
+        rows.append(f"<tr><td style='padding-left:{12 if part else 0}pt'><a href='{href}'>"
+                    f"{num}{html.escape(name)}</a></td><td style='text-align:right'>"
+                    f"<a href='{href}'>{page}</a></td></tr>")
     toc_html = _html_doc("<h1>Contents</h1><table style='width:100%;font-size:10.5pt'>"
                          + "".join(rows) + "</table>")
     return title_html, toc_html
 
 
-def _numbers_html(n: int, skip: int) -> str:
+def _numbers_html(n: int, skip: int, heads: dict[int, str] | None = None) -> str:
+    """Page numbers (from page ``skip + 1`` on) and running heads (``heads``: page index ->
+    text), one A4 page each, to be laid over the printed pages."""
+    heads = heads or {}
     pages = "".join(
-        f"<div class='p'><span>{i + 1 if i >= skip else ''}</span></div>" for i in range(n))
+        f"<div class='p'>{f'<b>{html.escape(heads[i])}</b>' if heads.get(i) else ''}"
+        f"<span>{i + 1 if i >= skip else ''}</span></div>" for i in range(n))
     return _html_doc(pages, "@page{size:A4;margin:0} body{margin:0} "
                      ".p{height:297mm;width:210mm;position:relative;page-break-after:always;"
                      "overflow:hidden} .p span{position:absolute;bottom:8mm;width:100%;"
-                     "text-align:center;font-size:9pt;color:#333}")
+                     "text-align:center;font-size:9pt;color:#333} .p b{position:absolute;"
+                     "top:7mm;left:14mm;right:14mm;font-weight:normal;font-style:italic;"
+                     "font-size:8.5pt;color:#555;border-bottom:0.3pt solid #999;"
+                     "padding-bottom:1mm;white-space:nowrap;overflow:hidden}")
 
 
 class Printer:
@@ -178,16 +273,24 @@ class Printer:
     def __init__(self, site: Path, out: Path) -> None:
         self.site, self.out = site, out
         self.cfg = yaml.safe_load((ROOT / "_config.yml").read_text())
-        self.entries = toc_entries()
-        missing = [d for _, d in self.entries if not (site / f"{d}.html").exists()]
+        # the API reference's module pages go to api.pdf: the book keeps its index (a line
+        # per module), so that the reference stays an appendix, not a third of the book
+        self.entries = [e for e in toc_entries() if not e[1].startswith(APPENDIX)]
+        self.appendix = [e for e in toc_entries() if e[1].startswith(APPENDIX)]
+        self.numbers = chapter_numbers()
+        missing = [d for _, d in self.entries + self.appendix
+                   if not (site / f"{d}.html").exists()]
         if missing:
             raise FileNotFoundError(f"pages missing from {site}: {missing}")
         self.printed: dict[str, tuple[str, object]] = {}  # doc -> (title, PdfReader)
         self.raw_math = 0
+        self.origin = ""  # the local server's http://127.0.0.1:PORT, seen in add()
+        self.sections: dict[str, list] = {}  # doc -> [(id, title)] of its second-level sections
         self.t0 = time.perf_counter()
 
     def wants(self, doc: str) -> bool:
-        return any(d == doc for _, d in self.entries) and doc not in self.printed
+        return (any(d == doc for _, d in self.entries + self.appendix)
+                and doc not in self.printed)
 
     def add(self, page, doc: str) -> None:
         """Print the page loaded in ``page`` (the site's ``doc``) at whatever window it has:
@@ -198,7 +301,12 @@ class Printer:
         from pypdf import PdfReader
 
         page.add_style_tag(content=PRINT_CSS)
+        page.evaluate(NUMBER_JS, self.numbers.get(doc, ""))
         info = page.evaluate(OPEN_AND_TYPESET_JS)
+        page.evaluate(TARGETS_JS)
+        self.sections[doc] = page.evaluate(SECTIONS_JS)
+        url = urlsplit(page.url)
+        self.origin = f"{url.scheme}://{url.netloc}"
         pdf = page.pdf(**PAGE, print_background=True, prefer_css_page_size=False)
         reader = PdfReader(io.BytesIO(pdf))
         self.printed[doc] = (info["title"], reader)
@@ -206,11 +314,53 @@ class Printer:
         print(f"pdf: {doc:<40} {len(reader.pages):3d} pages  {info['images']:2d} images"
               + (f"  RAW MATH {info['rawMath']}" if info["rawMath"] else ""), flush=True)
 
+    def write_chapters(self, chapters, cfg) -> None:
+        """One PDF per page of the book (a lecture's handout): ``<out>/../chapters/<doc>.pdf``
+        and, for the site's download menu, ``<site>/_pdf/<doc>.pdf``. Links inside the page
+        stay in its PDF; links to other pages go to the published site."""
+        from pypdf import PdfWriter
+
+        baseurl = cfg.get("html", {}).get("baseurl", "")
+        for _part, doc, title, r in chapters:
+            w = PdfWriter()
+            for p in r.pages:
+                w.add_page(p)
+            relink(w, destinations([(doc, r, 0)]), self.origin, baseurl)
+            num = self.numbers.get(doc)
+            w.add_outline_item(title=f"{num}  {title}" if num else title, page_number=0)
+            w.add_metadata({"/Title": f"{num}  {title}" if num else title,
+                            "/Author": cfg.get("author", "")})
+            w.compress_identical_objects()
+            for folder in (self.out.parent / "chapters", self.site / "_pdf"):
+                target = folder / f"{doc}.pdf"
+                target.parent.mkdir(parents=True, exist_ok=True)
+                with target.open("wb") as fh:
+                    w.write(fh)
+
+    def write_appendix(self, pages, cfg, out: Path) -> None:
+        """The API reference's module pages as one PDF (``api.pdf``), a bookmark each."""
+        from pypdf import PdfWriter
+
+        w = PdfWriter()
+        docs = []
+        for _part, doc, _title, r in pages:
+            docs.append((doc, r, len(w.pages)))
+            for p in r.pages:
+                w.add_page(p)
+        relink(w, destinations(docs), self.origin, cfg.get("html", {}).get("baseurl", ""))
+        for doc, _r, start in docs:
+            w.add_outline_item(title=self.printed[doc][0], page_number=start)
+        w.add_metadata({"/Title": f"{cfg['title']}: API reference",
+                        "/Author": cfg.get("author", "")})
+        w.compress_identical_objects()
+        with out.open("wb") as fh:
+            w.write(fh)
+
     def write(self, page) -> dict:
         """Front matter and page numbers (printed in ``page``), then the whole PDF to ``out``."""
         from pypdf import PdfReader, PdfWriter
 
-        missing = [d for _, d in self.entries if d not in self.printed]
+        missing = [d for _, d in self.entries + self.appendix if d not in self.printed]
         if missing:
             raise RuntimeError(f"pages not printed: {missing}")
         chapters = [(part, doc, *self.printed[doc]) for part, doc in self.entries]
@@ -221,17 +371,24 @@ class Printer:
 
         cfg = self.cfg
         named = [(p, d, t) for p, d, t, _ in chapters]
-        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, None)
+        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, None,
+                                             self.origin)
         front = len(render(title_html).pages) + len(render(toc_html).pages)
         starts, n = [], front
         for *_, r in chapters:
             starts.append(n + 1)
             n += len(r.pages)
-        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, starts)
+        title_html, toc_html = _front_matter(cfg["title"], cfg.get("author", ""), named, starts,
+                                             self.origin)
         title_pdf, toc_pdf = render(title_html), render(toc_html)
         if len(title_pdf.pages) + len(toc_pdf.pages) != front:
             raise RuntimeError("the table of contents changed length between two passes")
-        page.set_content(_numbers_html(n, skip=1), wait_until="load")
+        heads = {}
+        for (_part, doc, title, r), start in zip(chapters, starts, strict=True):
+            num = self.numbers.get(doc)
+            for k in range(1, len(r.pages)):  # not on the chapter's first page
+                heads[start - 1 + k] = f"{num}  {title}" if num else title
+        page.set_content(_numbers_html(n, skip=1, heads=heads), wait_until="load")
         numbers = PdfReader(io.BytesIO(page.pdf(format="A4", margin={
             "top": "0", "bottom": "0", "left": "0", "right": "0"})))
 
@@ -239,18 +396,29 @@ class Printer:
         for r in (title_pdf, toc_pdf):
             for p in r.pages:
                 writer.add_page(p)
-        parts: dict[str, object] = {}
-        for (part, _doc, title, r), start in zip(chapters, starts, strict=True):
-            first = len(writer.pages)
+        for (_part, _doc, _title, r), start in zip(chapters, starts, strict=True):
+            assert len(writer.pages) + 1 == start
             for p in r.pages:
                 writer.add_page(p)
+        docs = [(doc, r, start - 1) for (_p, doc, _t, r), start
+                in zip(chapters, starts, strict=True)]
+        dests = destinations(docs)
+        links = relink(writer, dests, self.origin, cfg.get("html", {}).get("baseurl", ""))
+        parts: dict[str, object] = {}
+        for (part, doc, title, _r), start in zip(chapters, starts, strict=True):
             parent = None
             if part:
                 if part not in parts:
-                    parts[part] = writer.add_outline_item(title=part, page_number=first)
+                    parts[part] = writer.add_outline_item(title=part, page_number=start - 1)
                 parent = parts[part]
-            writer.add_outline_item(title=title, page_number=first, parent=parent)
-            assert first + 1 == start
+            num = self.numbers.get(doc)
+            mark = writer.add_outline_item(title=f"{num}  {title}" if num else title,
+                                           page_number=start - 1, parent=parent)
+            for sid, snum, stitle in self.sections.get(doc, []) if part else []:
+                where = dests[0].get(doc, {}).get(sid)
+                if where is not None:
+                    writer.add_outline_item(title=f"{snum}  {stitle}" if snum else stitle,
+                                            page_number=where[0], parent=mark)
         for i, p in enumerate(writer.pages):
             p.merge_page(numbers.pages[i])
             p.compress_content_streams()
@@ -260,10 +428,103 @@ class Printer:
         out.parent.mkdir(parents=True, exist_ok=True)
         with out.open("wb") as fh:
             writer.write(fh)
+        self.write_chapters(chapters, cfg)
+        appendix = [(part, doc, *self.printed[doc]) for part, doc in self.appendix]
+        if appendix:
+            self.write_chapters(appendix, cfg)
+            self.write_appendix(appendix, cfg, self.out.parent / "api.pdf")
+            shutil.copyfile(self.out.parent / "api.pdf", self.site / "api.pdf")
+        # the site's download menus link the whole book (book.pdf) and each page's own PDF
+        # (_pdf/<page>.pdf, book/_ext/ipynb_download.py): the site carries them
+        shutil.copyfile(out, self.site / "book.pdf")
         return {"pages": {d: len(r.pages) for _, d, _, r in chapters}, "raw_math": self.raw_math,
-                "total_pages": len(writer.pages), "chapters": len(chapters),
+                "total_pages": len(writer.pages), "chapters": len(chapters), "links": links,
                 "front_pages": front, "seconds": time.perf_counter() - self.t0,
                 "bytes": out.stat().st_size}
+
+
+def destinations(docs) -> tuple[dict, dict, dict]:
+    """Where each anchor of each page is in the merged PDF. ``docs`` is ``(docname, its
+    PdfReader, the index of its first page in the merged PDF)`` in order. Returns
+    ``(dests, first, page_doc)``: ``dests[doc][id] = (page index, left, top)`` from Chromium's
+    named destinations, ``first[doc]`` the page index where ``doc`` starts, ``page_doc[index]``
+    the doc a page belongs to."""
+    dests: dict[str, dict[str, tuple[int, float, float]]] = {}
+    page_doc: dict[int, str] = {}
+    first: dict[str, int] = {}
+    for doc, reader, start in docs:
+        first[doc] = start
+        for k in range(len(reader.pages)):
+            page_doc[start + k] = doc
+        table = {}
+        for name, d in reader.named_destinations.items():
+            try:
+                k = reader.get_destination_page_number(d)
+            except Exception:  # a destination without a page of this reader
+                continue
+            table[str(name).lstrip("/")] = (start + k, float(d.left or 0), float(d.top or 0))
+        dests[doc] = table
+    return dests, first, page_doc
+
+
+def relink(writer, where, origin: str, baseurl: str) -> dict[str, int]:
+    """Make the printed links work in the PDF.
+
+    Chromium prints a link to another page of the site as a link to the local print server
+    (``origin``, gone once the PDF is written) and a link inside the page as a named
+    destination of that page's own PDF. Every link to a page of the book becomes a link to
+    the place in the PDF (the anchor's destination, else the page's first page); every other
+    link to the local server (figure data, the index, the search page) goes to the published
+    site ``baseurl``; links elsewhere are kept. ``where`` is :func:`destinations`'s answer.
+    Returns the counts by kind."""
+    from pypdf.generic import ArrayObject, FloatObject, NameObject, NullObject
+
+    dests, first, page_doc = where
+    counts = {"internal": 0, "to the site": 0, "kept": 0, "unresolved": 0}
+
+    def explicit(idx: int, left: float, top: float):
+        return ArrayObject([writer.pages[idx].indirect_reference, NameObject("/XYZ"),
+                            FloatObject(left), FloatObject(top), NullObject()])
+
+    def target(doc: str, fragment: str):
+        if fragment:
+            for key in (fragment, unquote(fragment)):
+                if key in dests.get(doc, {}):
+                    return dests[doc][key]
+        return (first[doc], 0.0, 10_000.0) if doc in first else None
+
+    for i, page in enumerate(writer.pages):
+        for ref in page.get("/Annots") or []:
+            a = ref.get_object()
+            if a.get("/Subtype") != "/Link":
+                continue
+            dest = a.get("/Dest")
+            if dest is not None and not isinstance(dest, list):
+                t = dests.get(page_doc.get(i, ""), {}).get(str(dest).lstrip("/"))
+                if t is None:
+                    counts["unresolved"] += 1
+                    continue
+                a[NameObject("/Dest")] = explicit(*t)
+                counts["internal"] += 1
+                continue
+            action = a.get("/A")
+            uri = str(action.get("/URI", "")) if action is not None else ""
+            if not uri.startswith(origin + "/") or not origin:
+                counts["kept"] += 1 if uri else 0
+                continue
+            parts = urlsplit(uri[len(origin):])
+            path = unquote(parts.path).lstrip("/")
+            doc = path.removesuffix(".html") if path.endswith(".html") else None
+            t = target(doc, parts.fragment) if doc in first else None
+            if t is not None:
+                del a[NameObject("/A")]
+                a[NameObject("/Dest")] = explicit(*t)
+                counts["internal"] += 1
+            else:
+                action[NameObject("/URI")] = type(action["/URI"])(
+                    baseurl.rstrip("/") + "/" + uri[len(origin):].lstrip("/"))
+                counts["to the site"] += 1
+    return counts
 
 
 def build_pdf(site: Path, out: Path) -> dict:
@@ -283,7 +544,7 @@ def build_pdf(site: Path, out: Path) -> dict:
                 executable_path=CHROMIUM, headless=True,
                 args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
             page = browser.new_page(viewport=VIEWPORT)
-            for _part, doc in printer.entries:
+            for _part, doc in printer.entries + printer.appendix:
                 page.goto(f"{base}/{doc}.html", wait_until="load", timeout=60_000)
                 printer.add(page, doc)
             stats = printer.write(page)

@@ -246,14 +246,19 @@ def _colab_to_notebook(app, pagename, context):
 
 
 def _book_pdf_button(app, pagename, templatename, context, doctree):
-    """A "whole book (PDF)" entry in every page's download menu (``make pdf`` writes book.pdf,
-    the workflow publishes it at the site's root)."""
+    """"whole book" and "this page (PDF)" entries in every page's download menu: the typeset
+    prints that ``make pdf`` (tools/pdf_book.py) writes into the site, ``book.pdf`` at its root
+    and ``_pdf/<page>.pdf``."""
     for group in context.get("header_buttons", []):
         if group.get("label") == "download-buttons":
             group["buttons"].append({
                 "type": "link", "url": context["pathto"]("book.pdf", 1), "text": "whole book",
                 "tooltip": "The whole book as one PDF", "icon": "fas fa-book",
                 "label": "download-book-pdf-button"})
+            group["buttons"].append({
+                "type": "link", "url": context["pathto"](f"_pdf/{pagename}.pdf", 1),
+                "text": "this page (PDF)", "tooltip": "This page as a PDF handout",
+                "icon": "fas fa-file-pdf", "label": "download-page-pdf-button"})
 
 
 def _launch_settings(app, config):

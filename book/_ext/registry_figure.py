@@ -95,6 +95,30 @@ def caption_source(entry, meta: dict) -> tuple[str, str]:
     return entry.caption, f"{what} Computed in {', '.join(run)}; seed {meta['seed']}."
 
 
+def _figure_node(directive, out, meta: dict, name: str, classes=()) -> nodes.figure:
+    """A numbered figure node named ``name`` holding the glued PNG ``out`` at the text width,
+    with the alt text of its metadata ``meta``."""
+    image = render_variable_outputs(
+        [out], directive.document, directive.line, directive.source,
+        render={"image": {"alt": meta["alt"], "width": "100%"}})
+    figure = nodes.figure("", *image, classes=["fc-registry-figure", *classes])
+    directive.set_source_info(figure)
+    directive.options["name"] = name
+    directive.add_name(figure)
+    return figure
+
+
+def _facts_html(name: str, meta: dict) -> str:
+    """The figure's facts for the browser check (``data-`` attributes of a hidden span) and
+    its smallest legible width: on a phone the image scrolls in its link's box."""
+    facts = {k: meta[k] for k in ("panels", "columns", "panel_fraction", "min_font_pt",
+                                  "dpi", "width_px", "height_px")}
+    attrs = " ".join(f'data-{k.replace("_", "-")}="{html.escape(str(v))}"'
+                     for k, v in facts.items())
+    return (f'<style>figure#{name} img {{ min-width: {legible_width(meta)}px; }}</style>'
+            f'<span class="fc-facts" data-id="{name}" {attrs} hidden></span>')
+
+
 class RegistryFigure(DirectiveBase):
     """The directive (see the module docstring)."""
 
@@ -120,13 +144,7 @@ class RegistryFigure(DirectiveBase):
         if not meta:
             return [glue_warning(f"registry-figure {entry_id}: the glued output has no figure "
                                  "facts", self.document, self.line)]
-        image = render_variable_outputs(
-            [out], self.document, self.line, self.source,
-            render={"image": {"alt": meta["alt"], "width": "100%"}})
-        figure = nodes.figure("", *image, classes=["fc-registry-figure"])
-        self.set_source_info(figure)
-        self.options["name"] = entry_id
-        self.add_name(figure)
+        figure = _figure_node(self, out, meta, entry_id)
 
         text, suffix = caption_source(entry, meta)
         holder = nodes.Element()
@@ -139,15 +157,8 @@ class RegistryFigure(DirectiveBase):
         env = self.state.document.settings.env
         up = "../" * env.docname.count("/")
         stem = f"{up}{DATA_DIR}/{entry_id}.{meta['profile']}.{meta['seed']}"
-        facts = {k: meta[k] for k in ("panels", "columns", "panel_fraction", "min_font_pt",
-                                      "dpi", "width_px", "height_px")}
-        attrs = " ".join(f'data-{k.replace("_", "-")}="{html.escape(str(v))}"'
-                         for k, v in facts.items())
-        # the image never narrower than legible: on a phone it scrolls in its link's box
-        links = (f'<style>figure#{entry_id} img {{ min-width: {legible_width(meta)}px; }}'
-                 '</style>'
-                 f'<p class="fc-figure-data"><span class="fc-facts" data-id="{entry_id}" '
-                 f'{attrs} hidden></span>Data of this figure: '
+        links = (f'{_facts_html(entry_id, meta)}'
+                 f'<p class="fc-figure-data">Data of this figure: '
                  f'<a href="{stem}.json" download>JSON</a> · '
                  f'<a href="{stem}.csv" download>CSV</a> '
                  f'(<code>python -m fusioncenter compute {entry_id} --profile '
@@ -158,6 +169,43 @@ class RegistryFigure(DirectiveBase):
         records.setdefault(env.docname, set()).add((entry_id, meta["profile"], int(meta["seed"])))
         shown = render_variable_outputs([evidence], self.document, self.line, self.source)
         return [figure, *shown]
+
+
+class BookFigure(DirectiveBase):
+    """``{book-figure} NAME`` with the caption as its body: a figure a chapter draws itself
+    (:func:`fusioncenter.book.figure` glued it under ``NAME``), numbered and captioned like a
+    registry figure, with the same alt text, facts and legible width, and no data links."""
+
+    required_arguments = 1
+    has_content = True
+    option_spec: dict = {}
+
+    def run(self):
+        name = self.arguments[0].strip()
+        if not self.content:
+            return [glue_warning(f"book-figure {name}: no caption (the directive's body)",
+                                 self.document, self.line)]
+        try:
+            out = retrieve_glue_data(self.document, name)
+        except RetrievalError as exc:
+            return [glue_warning(f"book-figure {name}: {exc} (does the page call "
+                                 f"fusioncenter.book.figure({name!r}, fig)?)",
+                                 self.document, self.line)]
+        meta = dict(out.metadata.get("fusioncenter", {}))
+        if not meta:
+            return [glue_warning(f"book-figure {name}: the glued output has no figure facts",
+                                 self.document, self.line)]
+        figure = _figure_node(self, out, meta, name, classes=["fc-book-figure"])
+        holder = nodes.Element()
+        self.state.nested_parse(self.content, self.content_offset, holder)
+        first, rest = (holder[0], holder[1:]) if len(holder) else (None, [])
+        if not isinstance(first, nodes.paragraph):
+            return [glue_warning(f"book-figure {name}: the caption must start with a "
+                                 "paragraph", self.document, self.line)]
+        figure += nodes.caption(first.rawsource, "", *first.children)
+        figure += nodes.legend("", *rest, nodes.raw("", _facts_html(name, meta),
+                                                     format="html"))
+        return [figure]
 
 
 def _purge(app, env, docname):
@@ -204,6 +252,7 @@ def _write_data(app, exc):
 
 def setup(app):
     app.add_directive("registry-figure", RegistryFigure)
+    app.add_directive("book-figure", BookFigure)
     app.add_css_file("registry-figure.css")
     app.connect("builder-inited", _static)
     app.connect("env-purge-doc", _purge)

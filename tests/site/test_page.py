@@ -300,3 +300,67 @@ def test_student_edition_build_drops_the_solutions(tmp_path, monkeypatch) -> Non
     for text in ("What is", "And", "Text after the solutions."):
         assert text in student
     assert student.count(student_edition.NOTE) == 2
+
+
+# ------------------------------------------------------ a chapter reads as a book (issue 27)
+@pytest.mark.parametrize("text", [
+    "True", "  False  ", "the two agree: True", "array([1., 2.])", "Matrix([[1, 0]])",
+    "mo2015: {'reproduced': 3, 'differs': 0}", "[0.1, 0.25, 3]", "['a', 'b']",
+    "[ 0.1  0.2  0.3]",
+])
+def test_repr_output_is_found(text):
+    assert bc.find_repr_output(text), text
+
+
+@pytest.mark.parametrize("text", [
+    "(10) and (11) agree to 1e-12", "largest |z| = 2.31", "True positives: 3 of 4",
+    "Fig. 3(a) [paper]", "bins [1, 2)",
+])
+def test_plain_output_is_not_flagged(text):
+    assert not bc.find_repr_output(text), text
+
+
+@pytest.mark.parametrize("text", [
+    "x_hat_{k|k-1} is the prediction", "P_hat", "the noise sigma_v", "sigma^2 of it",
+    "h^T P h", "sqrt(r) times", "uses x_{k|k-1}",
+])
+def test_ascii_math_is_found(text):
+    assert bc.find_ascii_math(text), text
+
+
+@pytest.mark.parametrize("text", [
+    "x̂ₖ|ₖ₋₁ is the prediction", "P̂", "the noise σᵥ", "hᵀ P h", "√r times",
+    "the sigma points", "a hat trick",
+])
+def test_unicode_math_is_not_flagged(text):
+    assert not bc.find_ascii_math(text), text
+
+
+def test_reading_counts_unfolded_code_and_finds_loose_images():
+    page = (
+        '<div class="cell docutils container"><div class="cell_input docutils container">'
+        '<div class="highlight"><pre>a = 1\n\nb = 2\n</pre></div></div>'
+        '<div class="cell_output docutils container"><img src="x/loose.png"/>'
+        '<div class="output text_plain"><pre>{\'a\': 1}</pre></div></div></div>'
+        '<div class="cell tag_hide-input docutils container"><details><summary>s</summary>'
+        '<div class="cell_input docutils container"><div class="highlight"><pre>c = 3\n'
+        '</pre></div></div></details></div>'
+        '<figure><img src="fig.png"/><figcaption>Fig. 1</figcaption></figure>'
+        '<p>The prediction x_hat and <span class="math">\\(\\hat x\\)</span>.</p>')
+    r = bc.read_page(page)
+    assert r.code_lines == 2
+    assert r.loose_images == ["x/loose.png"]
+    assert r.outputs == ["{'a': 1}"]
+    assert bc.find_ascii_math(" ".join(r.prose)) and "hat x" not in " ".join(r.prose)
+
+
+def test_reading_checks_only_chapter_pages():
+    assert bc.is_chapter("book/mo2015/trigger.html")
+    assert not bc.is_chapter("book/mo2015/index.html")
+    assert not bc.is_chapter("book/api.html") and not bc.is_chapter("index.html")
+
+
+def test_the_chapter_pages_read_as_a_book(site: Path) -> None:
+    problems, code = bc.check_reading(site)
+    assert len(code) >= 25, sorted(code)
+    assert not problems, "\n".join(problems[:40])

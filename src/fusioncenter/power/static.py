@@ -32,8 +32,8 @@ def _threshold_message(D, a, sigma_w2, c, sigma_v2, access) -> str:
     total = np.sum(np.asarray(c, float) ** 2 / np.asarray(sigma_v2, float), axis=-1)
     thr = required_snr(D, a, sigma_w2)
     return (f"target D = {float(np.max(D)):g} is infeasible for {access}: the sum of the sensor "
-            f"SNRs sum_i c_i^2 / sigma_v2_i = {float(np.min(total)):.6g} must exceed "
-            f"(a^2 D + sigma_w2 - D) / (D (D - sigma_w2)) = {float(np.max(thr)):.6g} "
+            f"SNRs Σᵢ cᵢ²/σᵢ² = {float(np.min(total)):.6g} must exceed "
+            f"(a²D + σ_w² − D)/(D(D − σ_w²)) = {float(np.max(thr)):.6g} "
             f"(condition (20))")
 
 
