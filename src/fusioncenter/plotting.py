@@ -615,13 +615,28 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
     return png, facts
 
 
+_GREEK = dict(zip(
+    "alpha beta gamma delta epsilon varepsilon zeta eta theta kappa lambda mu nu xi pi rho "
+    "sigma tau phi varphi chi psi omega Gamma Delta Theta Lambda Xi Pi Sigma Phi Psi "
+    "Omega".split(), "αβγδεεζηθκλμνξπρστφφχψωΓΔΘΛΞΠΣΦΨΩ", strict=True))
+_SYMBOLS = {"top": "ᵀ", "infty": "∞", "le": "≤", "leq": "≤", "ge": "≥", "geq": "≥",
+            "times": "×", "cdot": "·", "pm": "±", "to": "→", "sim": "∼", "approx": "≈",
+            "mid": "|", "ell": "ℓ", "sqrt": "√", "log": "log", "exp": "exp", "ln": "ln",
+            "min": "min", "max": "max", "quad": " ", "qquad": " ", "left": "", "right": ""}
+
+
 def _plain(s: str) -> str:
-    """Mathtext to readable plain text for alt text (``$\\sigma_v$`` -> ``sigma_v``)."""
+    """Mathtext to readable text for alt text: ``$\\sigma_v^2$`` -> ``σ_v^2``, ``\\mathbf{h}^\\top``
+    -> ``hᵀ`` (Greek letters and common symbols in Unicode, font commands and accents
+    dropped)."""
     s = s.replace("$", "")
-    s = re.sub(r"\\(mathrm|text|operatorname|mathbb)\{([^}]*)\}", r"\2", s)
-    s = re.sub(r"\\(tilde|bar|hat)\s*", "", s)
-    s = re.sub(r"\\([A-Za-z]+)", r"\1", s)
-    return re.sub(r"[{}]", "", s).replace("\\,", " ").strip()
+    s = re.sub(r"\\(mathrm|mathbf|mathit|mathcal|text|textbf|operatorname|mathbb|boldsymbol)"
+               r"\{([^}]*)\}", r"\2", s)
+    s = re.sub(r"\\(tilde|bar|hat|check|vec|overline|widehat|widetilde)\s*", "", s)
+    s = re.sub(r"\^\{?\\top\}?", "ᵀ", s)
+    s = re.sub(r"\\([A-Za-z]+)",
+               lambda m: _GREEK.get(m[1], _SYMBOLS.get(m[1], m[1])), s)
+    return re.sub(r"[{}]", "", s).replace("\\,", " ").replace("\\ ", " ").strip()
 
 
 def describe(fig) -> str:
