@@ -924,9 +924,9 @@ REPR_OUTPUT = [
     ("array repr", re.compile(r"\barray\(")),
     ("Matrix repr", re.compile(r"\b(?:Immutable)?(?:Dense)?Matrix\(\[")),
     ("dict repr", re.compile(r"\{\s*'[^'\n]*'\s*:|\{\s*\"[^\"\n]*\"\s*:")),
-    ("list repr", re.compile(r"\[\s*'[^'\n]*'\s*,|\[\s*-?\d[\d.e+-]*\s*,\s*-?\d[\d.e+-]*"
-                             r"(?:\s*,\s*-?\d[\d.e+-]*)*\s*\]|\[\s*-?\d[\d.e+-]*"
-                             r"(?:\s+-?\d[\d.e+-]*){2,}\s*\]")),
+    # three numbers or more: [a, b] is an interval, not a repr
+    ("list repr", re.compile(r"\[\s*'[^'\n]*'\s*,|\[\s*-?\d[\d.e+-]*(?:\s*,\s*-?\d[\d.e+-]*)"
+                             r"{2,}\s*\]|\[\s*-?\d[\d.e+-]*(?:\s+-?\d[\d.e+-]*){2,}\s*\]")),
 ]
 #: ASCII stand-ins for mathematics (typeset them, or write Unicode: x̂, σᵥ, hᵀ, √).
 _GREEK = ("alpha|beta|gamma|delta|epsilon|zeta|eta|theta|kappa|lambda|mu|nu|xi|pi|rho|sigma|"

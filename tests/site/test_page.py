@@ -314,7 +314,8 @@ def test_repr_output_is_found(text):
 
 @pytest.mark.parametrize("text", [
     "(10) and (11) agree to 1e-12", "largest |z| = 2.31", "True positives: 3 of 4",
-    "Fig. 3(a) [paper]", "bins [1, 2)",
+    "Fig. 3(a) [paper]", "bins [1, 2)", "G′ in [0.2727, 1.5586] on [0, 1500]",
+    "the square [-10, 10]^2 m",
 ])
 def test_plain_output_is_not_flagged(text):
     assert not bc.find_repr_output(text), text
