@@ -73,7 +73,7 @@ def test_parameters_are_the_papers():
 def test_fig7_checks_fail_on_a_wrong_grid_or_a_target_that_stays():
     d = data("zheng2014-fig7")
     d["sensors"] = d["sensors"][:8]
-    assert any("3 x 3 grid" in n for n in failed("zheng2014-fig7", d))
+    assert any("3 × 3 grid" in n for n in failed("zheng2014-fig7", d))
     d = data("zheng2014-fig7")
     d["fraction_outside"] = np.zeros_like(d["fraction_outside"])
     assert any("moves out" in n for n in failed("zheng2014-fig7", d))
