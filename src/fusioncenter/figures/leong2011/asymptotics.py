@@ -94,7 +94,8 @@ def checks_fig1(data: dict) -> list[Claim]:
               "with an O(1/M) error (M times the error levels off)",
               bool(np.all(np.diff(err[M >= 5]) < 0) and np.ptp(tail) < 0.05 * tail[-1]),
               f"K = {K:.4f}; M (P∞ − σ_w²) = {scaled[0]:.4f} at M = 1, {scaled[-1]:.4f} at "
-              f"M = 100; M²|P∞ − σ_w² − K/M| between {tail.min():.4f} and {tail.max():.4f} for M ≥ 50"),
+              f"M = 100; M²|P∞ − σ_w² − K/M| between {tail.min():.4f} and {tail.max():.4f} "
+              "for M ≥ 50"),
         Claim("the asymptotic expression is accurate at 20 sensors (relative error < 1 %)",
               rel20 < 0.01, f"relative error at M = 20: {rel20:.2e}", paper_specific=True),
     ]
