@@ -205,16 +205,9 @@ def plot_fig7(data: dict):
     return plotting.finish(fig)
 
 
-def _coords(values) -> str:
-    """Coordinates for a claim's detail: ``"-6.67, 0, 6.67"``."""
-    return ", ".join(f"{round(float(v), 2) + 0.0:.2f}".rstrip("0").rstrip(".")
-                     for v in values)
-
-
 @checks_doc()
 def checks_fig7(data: dict) -> list[Claim]:
-    """Fig. 7: the 3 x 3 grid, the trajectory's start, the target leaving the region, the
-    distance to the nearest sensor growing over the last 5 s."""
+    """Fig. 7: the grid, the start, the target leaving, the nearest sensor receding at the end."""
     s, h = data["sensors"], data["region_half_width"]
     xs, ys = np.unique(np.round(s[:, 0], 9)), np.unique(np.round(s[:, 1], 9))
     grid = len(s) == 9 and len(xs) == 3 and len(ys) == 3 and np.all(np.abs(s) <= h)
@@ -223,13 +216,14 @@ def checks_fig7(data: dict) -> list[Claim]:
     fo = data["fraction_outside"]
     T = len(fo) - 1
     z_d = z_score(data["nearest_distance_increase"], data["nearest_distance_increase_stderr"])
+    xy = [censoring.scenarios.values_text(np.round(v, 2)) for v in (xs, ys, tr[0], tr[-1])]
     return [
         Claim("N = 9 sensors on a 3 × 3 grid inside the 20 m × 20 m region", bool(grid),
-              f"abscissae {_coords(xs)} m, ordinates {_coords(ys)} m, half-width {h:g} m"),
+              f"abscissae {xy[0]} m, ordinates {xy[1]} m, half-width {h:g} m"),
         Claim("the sample trajectory starts at x₀ = (−8, −8) m inside the region and crosses it",
               bool(np.allclose(tr[0], data["x0"][[0, 2]]) and inside[: T // 2].all()
                    and np.ptp(tr[:, 0]) > h and np.ptp(tr[:, 1]) > h),
-              f"start ({_coords(tr[0])}) m, end ({_coords(tr[-1])}) m", paper_specific=True),
+              f"start {xy[2]} m, end {xy[3]} m", paper_specific=True),
         Claim("the target moves out of the region near the end (most trajectories are inside at "
               "t = 5 s and outside at t = 10 s)", bool(fo[T // 2] < 0.1 and fo[-1] > 0.5),
               f"fraction outside: {fo[T // 2]:.3f} at 5 s, {fo[-1]:.3f} at 10 s "
