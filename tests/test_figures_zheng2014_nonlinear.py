@@ -169,7 +169,7 @@ def test_fig7_overrides_change_and_record_the_data():
     assert e.model_overridden({"sigma2": 0.4, "trajectories": 9}) == ["sigma2"]
     checked, skipped = e.split_claims(e.run_checks(noisy), {"sigma2": 0.4})
     assert [c.name for c in checked] == [
-        "N = 9 sensors on a 3 x 3 grid inside the 20 m x 20 m region"]
+        "N = 9 sensors on a 3 × 3 grid inside the 20 m × 20 m region"]
     assert len(skipped) == 3 and all(c.paper_specific for c in skipped)
 
 
