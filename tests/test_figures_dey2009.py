@@ -58,14 +58,14 @@ def test_scalar_dominance_fails_when_the_bound_is_too_low():
     d = data("dey2009-fig1")
     d["s"] = d["s"] * 0.8
     names = failed("dey2009-fig1", d)
-    assert any(n.startswith("E[p_k] <= s_k") for n in names)
+    assert any(n.startswith("E[pₖ] ≤ sₖ") for n in names)
     assert any("exact at k = 1" in n for n in names)
 
 
 def test_scalar_ordering_and_convergence_checks_fail():
     d = data("dey2009-fig1")
     d["q"], d["s"] = d["s"].copy(), d["q"].copy()
-    assert any("s_k <= q_k" in n for n in failed("dey2009-fig1", d))
+    assert any("sₖ ≤ qₖ" in n for n in failed("dey2009-fig1", d))
     d = data("dey2009-fig1")
     d["s_limit"] = d["s_limit"] * 1.01
     assert any("fixed points" in n for n in failed("dey2009-fig1", d))
@@ -90,7 +90,7 @@ def test_nakagami_worse_than_rayleigh_can_fail():
 def test_multisensor_checks_fail(entry_id):
     d = data(entry_id)
     d["t"] = d["mean"] * 0.9
-    assert any("<= t_k" in n for n in failed(entry_id, d))
+    assert any("≤ tₖ" in n for n in failed(entry_id, d))
     d = data(entry_id)
     d["t_limit"] = d["s_limit"] * 2
     assert any("each of s and t" in n for n in failed(entry_id, d))

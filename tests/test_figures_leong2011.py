@@ -113,7 +113,7 @@ def test_fading_check_fails_when_no_csi_wins(entry_id):
 def test_fading_check_fails_on_a_missed_target():
     d = data("leong2011-fig6a")
     d["max_residual_csi"] = d["max_residual_csi"] + 1e-3
-    assert any("P_{k+1} <= D" in name for name in failed("leong2011-fig6a", d))
+    assert any("Pₖ₊₁ ≤ D" in name for name in failed("leong2011-fig6a", d))
 
 
 def test_lmmse_check_fails_on_a_wrong_variance():

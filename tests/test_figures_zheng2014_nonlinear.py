@@ -73,7 +73,7 @@ def test_parameters_are_the_papers():
 def test_fig7_checks_fail_on_a_wrong_grid_or_a_target_that_stays():
     d = data("zheng2014-fig7")
     d["sensors"] = d["sensors"][:8]
-    assert any("3 x 3 grid" in n for n in failed("zheng2014-fig7", d))
+    assert any("3 × 3 grid" in n for n in failed("zheng2014-fig7", d))
     d = data("zheng2014-fig7")
     d["fraction_outside"] = np.zeros_like(d["fraction_outside"])
     assert any("moves out" in n for n in failed("zheng2014-fig7", d))
@@ -169,7 +169,7 @@ def test_fig7_overrides_change_and_record_the_data():
     assert e.model_overridden({"sigma2": 0.4, "trajectories": 9}) == ["sigma2"]
     checked, skipped = e.split_claims(e.run_checks(noisy), {"sigma2": 0.4})
     assert [c.name for c in checked] == [
-        "N = 9 sensors on a 3 x 3 grid inside the 20 m x 20 m region"]
+        "N = 9 sensors on a 3 × 3 grid inside the 20 m × 20 m region"]
     assert len(skipped) == 3 and all(c.paper_specific for c in skipped)
 
 

@@ -46,13 +46,13 @@ CASES = {
 #: The entries with a model parameter, one such override, and their paper-specific claims
 #: (the start of each claim's name).
 MODEL_CASES = {
-    "background-riccati": ({"a": 0.9}, ["scalar recursion from p0 = 0 increases"]),
+    "background-riccati": ({"a": 0.9}, ["scalar recursion from p₀ = 0 increases"]),
     "background-kf-montecarlo": ({"trials": 200, "q": 1.0}, []),
     "leong2011-fig1": ({"h": 0.5}, ["the asymptotic expression is accurate at 20 sensors"]),
     "leong2011-fig2": ({"sigma_n2": 2.0, "M_max": 20},
-                       ["P_inf lies between the bounds (37)", "P_inf - sigma_w2 = O(1/M)"]),
+                       ["P∞ lies between the bounds (37)", "P∞ − σ_w² = O(1/M)"]),
     "dey2009-vector": ({"paths": 64, "lam": 10.0},
-                       ["Zbar_k converges", "E[tr P_k] has converged"]),
+                       ["Z̄ₖ converges", "E[tr Pₖ] has converged"]),
     "dey2009-distribution": ({"paths": 200, "alt_paths": 50, "sigma_v": 2.0},
                              ["right-skewed", "Nakagami(1/2) spreads p more"]),
     "mo2015-tracking": ({"trials": 40, "calibration_trials": 40, "r": 2.0}, []),

@@ -360,26 +360,26 @@ def bandwidth_claims(tables: Mapping[str, dict]) -> list[Claim]:
     v_under = every(lambda t: t["v"][0] + Z_ORDER * t["v_stderr"][0] < 1)
     return [
         Claim("for every l > 1 in every table, CFwMD2 sends closer to l than CFwMD (point "
-              "estimates), and by more than 4 paired standard errors wherever l >= 1.5",
+              "estimates), and by more than 4 paired standard errors wherever l ≥ 1.5",
               closer_all and closer_sig,
               "paired z = " + _cells(T, lambda t, j: f"{t['closer_z'][j]:.1f}")),
         Claim("the printed tables say the same at every l, l = 1 included",
               printed_closer,
-              "printed |CFwMD - l| - |CFwMD2 - l| = "
+              "printed |CFwMD − l| − |CFwMD2 − l| = "
               + _cells(T, lambda t, j: f"{t['printed_closer'][j]:+.4f}")),
         Claim("with state feedback only, CFwMD sends fewer than l for every l > 1 in every "
               "table (ours by more than 4 standard errors; the printed values too)",
               under and under_printed,
-              "CFwMD - l = " + _cells(T, lambda t, j: f"{t['ours'][0, j] - t['l'][j]:+.3f}")),
+              "CFwMD − l = " + _cells(T, lambda t, j: f"{t['ours'][0, j] - t['l'][j]:+.3f}")),
         Claim("hence at the same target l > 1 CFwMD2 spends more transmissions than CFwMD "
               "(the comparisons of Figs. 2, 5 and 10 are not at equal bandwidth)", more,
-              "CFwMD2 - CFwMD = "
+              "CFwMD2 − CFwMD = "
               + _cells(T, lambda t, j: f"{t['ours'][1, j] - t['ours'][0, j]:+.3f}")),
         Claim("for l > 1, our CFwMD2 agrees with the printed value in every table (|z| < 4, the "
               "paper's Monte Carlo error estimated from its trial count)", agree2,
               "z = " + _cells(T, lambda t, j: f"{t['z_printed'][1, j]:+.1f}")),
         Claim("our CFwMD sends fewer than printed at every l of Tables I and III", below,
-              "ours - printed = " + ", ".join(
+              "ours − printed = " + ", ".join(
                   f"{TABLE_NAMES[s]}: " + ", ".join(f"{v:+.3f}" for v in T[s]["diff"][0])
                   for s in ("scalar", "nonlinear"))),
         Claim("Table II, l = 1: our CFwMD sends more than the printed 0.93 (z > 4), and the "
@@ -662,7 +662,7 @@ def payoff_claims(rows: Sequence[Mapping], sweep: Mapping) -> list[Claim]:
     rand_nl = all(r["random_ratio"] + 2 * r["random_ratio_stderr"] < lo_lin for r in nonlin)
     z_shrink = sweep["shrink"] / sweep["shrink_stderr"]
     return [
-        Claim("using the silences pays wherever the FC can compute their likelihood: CFoMD - "
+        Claim("using the silences pays wherever the FC can compute their likelihood: CFoMD − "
               "CFwMD > 0 in every setting, by more than the registry's z for an ordering",
               gain_ok, fmt(lambda r: f"{r['gain']:+.3f} m (z = {r['gain_z']:.1f}, needed "
                            f"{r['z_needed']:.2f})")),
@@ -672,7 +672,7 @@ def payoff_claims(rows: Sequence[Mapping], sweep: Mapping) -> list[Claim]:
                   lambda r: r["feedback"] == "none")),
         Claim("CFwMD wins back part, never all, of CFoMD's loss against all-send: 0 < share < 1 "
               "by two conservative standard errors, in every setting", between,
-              fmt(lambda r: f"{r['share']:.2f} +/- {r['share_stderr']:.2f}")),
+              fmt(lambda r: f"{r['share']:.2f} ± {r['share_stderr']:.2f}")),
         Claim("in metres, the silences are worth most on the nonlinear grid (9 sensors, most of "
               "them silent at every step): its gain exceeds every linear one by more than 2 "
               "conservative standard errors", bool(min(z_big) > 2),
@@ -689,7 +689,7 @@ def payoff_claims(rows: Sequence[Mapping], sweep: Mapping) -> list[Claim]:
               "as much as CFoMD against all-send; on the nonlinear grid its handicap is smaller "
               "than in either linear setting (two conservative standard errors each)",
               bool(lo_lin > 2 and rand_nl),
-              fmt(lambda r: f"{r['random_ratio']:.2f} +/- {r['random_ratio_stderr']:.2f}",
+              fmt(lambda r: f"{r['random_ratio']:.2f} ± {r['random_ratio_stderr']:.2f}",
                   lambda r: r["feedback"] == "state")),
         Claim("on the nonlinear grid the gain shrinks as l approaches N: gain at the smallest l "
               "minus gain at the largest, more than 2 conservative standard errors",

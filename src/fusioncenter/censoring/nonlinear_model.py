@@ -172,42 +172,44 @@ class NonlinearScenario(scenarios.Scenario):
         """Every choice the paper leaves open, with the value this scenario uses."""
         grid = grid_positions(3, self.region)
         default = self.positions.shape == grid.shape and np.allclose(self.positions, grid)
+        P0 = ("diag" if np.ndim(self.P0) == 1 else "") + scenarios.values_text(self.P0)
         return {
-            "region": f"the square [-{self.region / 2:g}, {self.region / 2:g}]^2 m, centred at "
-                      "the origin (the paper: a 20 m x 20 m area; the centring is implied by "
-                      "x0 = (-8, -8) and by the target leaving the region near the end)",
-            "sensor positions": ("centres of the 3 x 3 cells of the region, x, y in {-20/3, 0, "
+            "region": f"the square [−{self.region / 2:g}, {self.region / 2:g}]² m, centred at "
+                      "the origin (the paper: a 20 m × 20 m area; the centring is implied by "
+                      "x₀ = (−8, −8) and by the target leaving the region near the end)",
+            "sensor positions": ("centres of the 3 × 3 cells of the region, x, y ∈ {−20/3, 0, "
                                  "20/3} m (the paper: 'grid deployed', positions not given)"
-                                 if default else f"given: {self.sensors}"),
-            "measurement": "the amplitude sqrt(P0 / (1 + alpha d^n)) plus N(0, r) noise (the "
-                           "paper calls it the received 'signal power'; its formula is the "
-                           "amplitude)",
-            "time axis": f"x_0 at t = 0 is not measured; the sensors measure at steps k = 1..T "
-                         f"(T = {self.T}, t = k dt); RMSE and transmissions reported for k = "
-                         "1..T",
-            "initial state": ("the true x_0 = x0 in every trial (the target always starts at "
-                              f"{self.x0}); only the filters' prior is N(x0, P0), P0 = {self.P0}"
+                                 if default else
+                                 f"given: {scenarios.values_text(self.sensors)} m"),
+            "measurement": "the amplitude √(P₀/(1 + α dⁿ)) plus N(0, r) noise (the paper calls "
+                           "it the received 'signal power'; its formula is the amplitude)",
+            "time axis": f"x₀ at t = 0 is not measured; the sensors measure at steps k = 1, …, T "
+                         f"(T = {self.T}, t = k Δt); RMSE and transmissions reported for k = "
+                         "1, …, T",
+            "initial state": ("the true x₀ = x̄₀ in every trial (the target always starts at "
+                              f"x̄₀ = {scenarios.values_text(self.x0)}); only the filters' prior "
+                              f"is N(x̄₀, P₀), P₀ = {P0}"
                               if self.initial_truth == "mean" else
-                              f"the true x_0 ~ N(x0, P0) drawn for every trial, x0 = {self.x0}, "
-                              f"P0 = {self.P0}"),
-            "PF prior": "particles at t = 0 drawn from N(x0, P0)",
-            "local EKFs": "every sensor's EKF starts from (x0, P0); its covariance recursion "
+                              "the true x₀ ∼ N(x̄₀, P₀) drawn for every trial, x̄₀ = "
+                              f"{scenarios.values_text(self.x0)}, "
+                              f"P₀ = {P0}"),
+            "PF prior": "particles at t = 0 drawn from N(x̄₀, P₀)",
+            "local EKFs": "every sensor's EKF starts from (x̄₀, P₀); its covariance recursion "
                           "uses its own measurement at every step (censoring only decides what "
-                          "is sent); with feedback it linearizes h^i at the broadcast prediction "
-                          "F xhat_{k-1|k-1} (Remark 3 (I)), so the FC can replay it",
-            "feedback 'state'": "xhat_{k-1|k-1} (weighted particle mean before resampling) is "
-                                "broadcast after step k-1; sensors use xhat_{k|k-1} = F "
-                                "xhat_{k-1|k-1} in the innovation and normalize by their own "
-                                "EKF s_k^i = g P^i_{k|k-1} g^T + r (Proposition 7); xhat_{0|0} "
-                                "= x0",
-            "feedback 'state+cov'": "also Phat_{k-1|k-1} (weighted particle covariance); "
-                                    "s'^i_k = g (F Phat_{k-1|k-1} F^T + Q) g^T + r for sensors "
-                                    "and FC (Proposition 8, 'CFwMD2'); Phat_{0|0} = P0",
+                          "is sent); with feedback it linearizes hⁱ at the broadcast prediction "
+                          "F x̂ₖ₋₁|ₖ₋₁ (Remark 3 (I)), so the FC can replay it",
+            "feedback 'state'": "x̂ₖ₋₁|ₖ₋₁ (weighted particle mean before resampling) is "
+                                "broadcast after step k − 1; sensors use x̂ₖ|ₖ₋₁ = F x̂ₖ₋₁|ₖ₋₁ in "
+                                "the innovation and normalize by their own EKF "
+                                "sₖⁱ = g Pⁱₖ|ₖ₋₁ gᵀ + r (Proposition 7); x̂₀|₀ = x̄₀",
+            "feedback 'state+cov'": "also P̂ₖ₋₁|ₖ₋₁ (weighted particle covariance); "
+                                    "s′ₖⁱ = g (F P̂ₖ₋₁|ₖ₋₁ Fᵀ + Q) gᵀ + r for sensors and FC "
+                                    "(Proposition 8, 'CFwMD2'); P̂₀|₀ = P₀",
             "feedback 'none'": "each sensor runs a full EKF on its own data; accepted for "
                                "all-send, random and CFoMD only (no full likelihood: Remark 4 "
                                "(III))",
-            "Jacobian": "g_k^i = dh^i/dx at the (broadcast or local) prediction xhat_{k|k-1}",
-            "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
+            "Jacobian": "gₖⁱ = ∂hⁱ/∂x at the (broadcast or local) prediction x̂ₖ|ₖ₋₁",
+            "threshold": "η = the upper-(l/N) quantile of χ²₁, the same for every sensor and step "
                          "(eq. (43))",
             **scenarios.SCHEME_CHOICES,
         }

@@ -142,6 +142,30 @@ def check_feedback_moments(value) -> None:
         raise ValueError(f"feedback_moments must be 'analytic' or 'particles', got {value!r}")
 
 
+def values_text(value) -> str:
+    """A number, a vector or a matrix as a reader sees it in a scenario's ``choices``.
+
+    Numbers are written with ``:g`` and a true minus sign (``−8``), sequences in parentheses:
+    ``(−8, 2, −8, 2)``, ``((1, 0), (0, 1))``.
+
+    Parameters
+    ----------
+    value : float or sequence
+        A number or a (nested) sequence of numbers.
+
+    Returns
+    -------
+    str
+        The text.
+    """
+    if isinstance(value, str):
+        return value
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        return f"{float(arr) + 0.0:g}".replace("-", "−")
+    return "(" + ", ".join(values_text(v) for v in arr) + ")"
+
+
 def time_axis_choice(T: int) -> str:
     """The ``"time axis"`` entry of a scenario's ``choices``.
 
@@ -155,8 +179,8 @@ def time_axis_choice(T: int) -> str:
     str
         The sentence.
     """
-    return (f"x_0 at t = 0 is not measured; the sensors measure at t = 1..T (T = {T}); RMSE and "
-            "transmissions are reported for t = 1..T")
+    return (f"x₀ at t = 0 is not measured; the sensors measure at t = 1, …, T (T = {T}); RMSE "
+            "and transmissions are reported for t = 1, …, T")
 
 
 #: The choices of :attr:`LinearScenario.choices` that every scenario shares (the schemes and the
@@ -322,34 +346,34 @@ class LinearScenario(Scenario):
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
-        P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
+        P0 = "0 (x₀ = x̄₀ known exactly)" if self.P0 is None else values_text(self.P0)
         return {
             "time axis": time_axis_choice(self.T),
-            "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0} (the paper: the "
-                             "initial state 'is chosen to be [0 10]')",
-            "PF prior": "particles at t = 0 drawn from N(x0, P0): all equal to x0 when P0 = 0",
-            "local Kalman filters": "every sensor's KF starts from (x0, P0) and uses all of its "
+            "initial state": f"x₀ ∼ N(x̄₀, P₀), x̄₀ = {values_text(self.x0)}, P₀ = {P0} (the "
+                             "paper: the initial state 'is chosen to be [0 10]')",
+            "PF prior": "particles at t = 0 drawn from N(x̄₀, P₀): all equal to x̄₀ when P₀ = 0",
+            "local Kalman filters": "every sensor's KF starts from (x̄₀, P₀) and uses all of its "
                                     "own measurements (censoring only decides what is sent); "
                                     "its covariance recursion is data-independent, so the FC "
-                                    "knows every s_k^i (Remark 1 (I))",
-            "initial cross-covariance": "P^{ij}_{0|0} = P0 (all sensors start from the same x0; "
-                                        "the paper's P^{ij}_{0|0} = 0 is this with P0 = 0)",
-            "feedback 'state'": "x_hat_{k|k-1} broadcast at the start of step k; sensors use it in "
-                                "the innovation but normalize by their own s_k^i = r + h^T "
-                                "P^i_{k|k-1} h (Remark 1 (III))",
-            "feedback 'state+cov'": "also P_hat_{k|k-1}; sensors and FC use s'^i_k = r + h^T "
-                                    "P_hat_{k|k-1} h (Proposition 2, 'CFwMD2')",
+                                    "knows every sₖⁱ (Remark 1 (I))",
+            "initial cross-covariance": "Pⁱʲ₀|₀ = P₀ (all sensors start from the same x̄₀; the "
+                                        "paper's Pⁱʲ₀|₀ = 0 is this with P₀ = 0)",
+            "feedback 'state'": "x̂ₖ|ₖ₋₁ broadcast at the start of step k; sensors use it in the "
+                                "innovation but normalize by their own sₖⁱ = r + hᵀPⁱₖ|ₖ₋₁h "
+                                "(Remark 1 (III))",
+            "feedback 'state+cov'": "also P̂ₖ|ₖ₋₁; sensors and FC use s′ₖⁱ = r + hᵀP̂ₖ|ₖ₋₁h "
+                                    "(Proposition 2, 'CFwMD2')",
             "feedback moments": (
-                "analytic: x_hat_{k|k-1} = F x_hat_{k-1|k-1}, P_hat_{k|k-1} = F P_hat_{k-1|k-1} "
-                "F^T + Q, from the weighted particle mean and covariance at k-1 (before "
-                "resampling); x_hat_{1|0} = F x0, P_hat_{1|0} = F P0 F^T + Q"
+                "analytic: x̂ₖ|ₖ₋₁ = F x̂ₖ₋₁|ₖ₋₁, P̂ₖ|ₖ₋₁ = F P̂ₖ₋₁|ₖ₋₁ Fᵀ + Q, from the weighted "
+                "particle mean and covariance at k − 1 (before resampling); x̂₁|₀ = F x̄₀, "
+                "P̂₁|₀ = F P₀ Fᵀ + Q"
                 if self.feedback_moments == "analytic" else
                 "particles: mean and covariance of the propagated particle cloud at step k"),
-            "threshold": "eta = chi2_1 upper-(l/N) quantile, the same for every sensor and step "
+            "threshold": "η = the upper-(l/N) quantile of χ²₁, the same for every sensor and step "
                          "(eq. (8))",
             **SCHEME_CHOICES,
             "no-feedback likelihood": "'corrected' (default) or 'printed' Proposition 3, both with "
-                                      "the paper's law (21)-(23) for the local predictions, or "
+                                      "the paper's law (21)–(23) for the local predictions, or "
                                       "'exact' (particles carry the local predictions)",
         }
 

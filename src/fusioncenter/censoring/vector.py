@@ -122,32 +122,33 @@ class VectorScenario(scenarios.Scenario):
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
-        P0 = "0 (x_0 = x0 known exactly)" if self.P0 is None else f"{self.P0}"
+        P0 = "0 (x₀ = x̄₀ known exactly)" if self.P0 is None else scenarios.values_text(self.P0)
         return {
             "time axis": scenarios.time_axis_choice(self.T),
-            "initial state": f"x_0 ~ N(x0, P0), x0 = {self.x0}, P0 = {P0}; the PF's particles "
-                             "start from the same law",
-            "motion model": f"the target of Section VII.A: sigma^2 = {self.sigma2} (Section "
+            "initial state": f"x₀ ∼ N(x̄₀, P₀), x̄₀ = {scenarios.values_text(self.x0)}, P₀ = "
+                             f"{P0}; the PF's particles start from the same law",
+            "motion model": f"the target of Section VII.A: σ² = {self.sigma2:g} (Section "
                             "VII.B says 'the same one-dimensional moving target')",
-            "sensors": f"H = {self.H}, R = {self.R} for every sensor unless given per sensor "
-                       "(the paper states R^i = diag(2, 4) for i = 1, 2 only; sensors 3, 4 "
+            "sensors": f"H = {scenarios.values_text(self.H)}, R = "
+                       f"{scenarios.values_text(self.R)} for every sensor unless given per sensor "
+                       "(the paper states Rⁱ = diag(2, 4) for i = 1, 2 only; sensors 3, 4 "
                        "of Fig. 5 use the same)",
-            "local Kalman filters": "every sensor's KF starts from (x0, P0) and uses all of its "
+            "local Kalman filters": "every sensor's KF starts from (x̄₀, P₀) and uses all of its "
                                     "own measurements; its covariance recursion is "
-                                    "data-independent, so the FC knows every S_k^i",
-            "initial cross-covariance": "P^{ij}_{0|0} = P0 (the paper's 0 when P0 = 0)",
-            "feedback 'state'": "x_hat_{k|k-1} broadcast at the start of step k; sensors use it in "
-                                "the innovation and normalize by their own S_k^i",
-            "feedback 'state+cov'": "also P_hat_{k|k-1}; sensors and FC use S'^i_k = R^i + H^i "
-                                    "P_hat_{k|k-1} H^iT (Proposition 5, 'CFwMD2')",
+                                    "data-independent, so the FC knows every Sₖⁱ",
+            "initial cross-covariance": "Pⁱʲ₀|₀ = P₀ (the paper's 0 when P₀ = 0)",
+            "feedback 'state'": "x̂ₖ|ₖ₋₁ broadcast at the start of step k; sensors use it in the "
+                                "innovation and normalize by their own Sₖⁱ",
+            "feedback 'state+cov'": "also P̂ₖ|ₖ₋₁; sensors and FC use S′ₖⁱ = Rⁱ + HⁱP̂ₖ|ₖ₋₁Hⁱᵀ "
+                                    "(Proposition 5, 'CFwMD2')",
             "feedback moments": (
-                "analytic: x_hat_{k|k-1} = F x_hat_{k-1|k-1}, P_hat_{k|k-1} = F P_hat_{k-1|k-1} "
-                "F^T + Q from the weighted particle mean and covariance at k-1 (before "
-                "resampling)" if self.feedback_moments == "analytic" else
+                "analytic: x̂ₖ|ₖ₋₁ = F x̂ₖ₋₁|ₖ₋₁, P̂ₖ|ₖ₋₁ = F P̂ₖ₋₁|ₖ₋₁ Fᵀ + Q from the weighted "
+                "particle mean and covariance at k − 1 (before resampling)"
+                if self.feedback_moments == "analytic" else
                 "particles: mean and covariance of the propagated particle cloud at step k"),
-            "threshold": f"eta = chi2_m upper-(l/N) quantile with m = {self.m} (eq. (32))",
-            "silent probability": "P(q^T q < eta) by quadrature (interpolated tables in the "
-                                  "filter, error < 1e-6 in the log); the paper sampled it",
+            "threshold": f"η = the upper-(l/N) quantile of χ²ₘ with m = {self.m} (eq. (32))",
+            "silent probability": "P(qᵀq < η) by quadrature (interpolated tables in the "
+                                  "filter, error < 10⁻⁶ in the log); the paper sampled it",
             **scenarios.SCHEME_CHOICES,
             "no-feedback likelihood": "'exact' (particles carry every local prediction; "
                                       "default) or 'printed' Proposition 6 (= CFoMD)",

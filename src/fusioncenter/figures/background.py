@@ -170,18 +170,18 @@ def checks_riccati(data: dict) -> list[Claim]:
     return [
         Claim("closed-form scalar steady state is a fixed point of the recursion",
               abs(fixed - p_inf) <= 1e-12 * p_inf,
-              f"|step(p_inf) - p_inf| = {abs(fixed - p_inf):.2e}"),
+              f"|step(p∞) − p∞| = {abs(fixed - p_inf):.2e}"),
         Claim("closed form equals scipy's DARE solution",
               abs(p_inf - data["p_scalar_dare"]) <= 1e-10 * p_inf,
               f"{p_inf:.12f} vs {data['p_scalar_dare']:.12f}"),
-        Claim("scalar recursion from p0 = 0 increases monotonically to p_inf (within 1e-8 by "
+        Claim("scalar recursion from p₀ = 0 increases monotonically to p∞ (within 10⁻⁸ by "
               "the last step)", bool(np.all(np.diff(p) >= 0) and gap[-1] < 1e-8 * p_inf),
               f"final gap {gap[-1]:.2e}", paper_specific=True),
         Claim("vector recursion agrees with filterpy KalmanFilter",
               rel_fp < 1e-12, f"max relative difference {rel_fp:.2e}"),
         Claim("vector recursion converges to the DARE solution",
               np.max(np.abs(P[-1] - P_inf)) < 1e-6 * np.max(np.abs(P_inf)),
-              f"max |P_30 - P_inf| = {np.max(np.abs(P[-1] - P_inf)):.2e}"),
+              f"max |P₃₀ − P∞| = {np.max(np.abs(P[-1] - P_inf)):.2e}"),
     ]
 
 
@@ -274,7 +274,7 @@ def checks_mc(data: dict) -> list[Claim]:
               bool(np.all(np.abs(z) < 4.5)), f"max |z| = {np.max(np.abs(z)):.2f}"),
         Claim("squared error / Riccati variance, averaged over steps and components, is 1",
               abs(zt) < 4.0,
-              f"{data['normalized_mse']:.4f} +/- {data['normalized_mse_stderr']:.4f} "
+              f"{data['normalized_mse']:.4f} ± {data['normalized_mse_stderr']:.4f} "
               f"(z = {zt:.2f})"),
     ]
 

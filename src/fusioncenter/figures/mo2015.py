@@ -193,20 +193,22 @@ def checks_rate(data: dict) -> list[Claim]:
     zero_mu = data["mu"] == 0
     gap = data["rate_xbar"] - data["rate_zero_mean"]
     return [
-        Claim("library rate at xbar = 0 equals the notes' 1 - (1 + s/delta)^(-1/2)",
+        Claim("library rate at x̄ = 0 equals the notes' 1 − 1/√(1 + s/δ)",
               notes_err < 1e-14, f"max abs difference {notes_err:.1e}"),
-        Claim(f"Monte Carlo rate within {Z_TOL:.0f} s.e. of the closed form at every delta, "
+        Claim(f"Monte Carlo rate within {Z_TOL:.0f} s.e. of the closed form at every δ, "
               "sensor and mean", bool(np.all(np.abs(z) < Z_TOL)),
               f"max |z| = {np.max(np.abs(z)):.2f} over {dof} points"),
-        Claim("rate strictly decreasing in delta (closed form) and non-increasing (simulation, "
+        Claim("rate strictly decreasing in δ (closed form) and non-increasing (simulation, "
               "common random numbers)", dec_closed and dec_mc,
-              f"closed form: {dec_closed}, simulation: {dec_mc}"),
-        Claim("a non-zero prior mean raises the rate, and only for sensors with a_i xbar != 0",
+              "closed form " + ("strictly decreasing" if dec_closed else "not strictly decreasing")
+              + "; simulation " + ("non-increasing" if dec_mc else "increasing somewhere")),
+        Claim("a non-zero prior mean raises the rate, and only for sensors with aᵢx̄ ≠ 0",
               bool(np.all(gap[:, ~zero_mu] > 0) and np.all(np.abs(gap[:, zero_mu]) < 1e-15)),
-              f"min gap (a_i xbar != 0) {np.min(gap[:, ~zero_mu]):.2e}"),
-        Claim("delta_for_rate inverts the rate (round trip on 201 deltas from 0.01 to 100)",
+              f"min gap (aᵢx̄ ≠ 0) {np.min(gap[:, ~zero_mu]):.2e}"),
+        Claim("the inverse map rate ↦ δ inverts the rate (round trip on 201 values of δ from "
+              "0.01 to 100)",
               rt0 < 1e-9 and rt1 < 1e-9,
-              f"max relative error {rt0:.1e} (xbar = 0), {rt1:.1e} (xbar != 0)"),
+              f"max relative error {rt0:.1e} (x̄ = 0), {rt1:.1e} (x̄ ≠ 0)"),
     ]
 
 
@@ -359,12 +361,12 @@ def checks_tradeoff(data: dict) -> list[Claim]:
               f"largest z = {np.max(zd):.1f}"),
         Claim("MC MSE of the trigger equals the exact E tr P (pattern closed form), 4 s.e.",
               bool(np.all(np.abs(zs) < Z_TOL)), f"max |z| = {np.max(np.abs(zs)):.2f}"),
-        Claim("per trial, squared error minus tr P(gamma) has mean 0 (4 s.e.): P is the error "
+        Claim("per trial, squared error minus tr P(γ) has mean 0 (4 s.e.): P is the error "
               "covariance", bool(np.all(np.abs(zp) < Z_TOL)),
               f"max |z| = {np.max(np.abs(zp)):.2f}"),
         Claim("MC MSE of random selection equals its exact value, 4 s.e.",
               bool(np.all(np.abs(zr) < Z_TOL)), f"max |z| = {np.max(np.abs(zr)):.2f}"),
-        Claim("all-send is the lower bound: exact curves stay above tr P_all, MC all-send "
+        Claim("all-send is the lower bound: exact curves stay above tr P of all-send, MC all-send "
               "matches it", lower > 0 and abs(za) < Z_TOL,
               f"min exact gap {lower:.2e}; all-send z = {za:.2f}"),
     ]
@@ -543,9 +545,9 @@ def checks_tracking(data: dict) -> list[Claim]:
         Claim(f"trigger's MSE below random selection's at every matched rate by more than "
               f"{Z_TOL:.0f} s.e. (paired)", bool(np.all(zd < -Z_TOL)),
               f"largest z = {np.max(zd):.1f}"),
-        Claim("the filters are exact: E||x_k - xhat_k||^2 = E tr P_{k|k} at every step "
+        Claim("the filters are exact: E‖xₖ − x̂ₖ‖² = E tr Pₖ|ₖ at every step "
               "(4 s.e.)", bool(np.all(np.abs(z_all) < Z_TOL)),
-              f"max |z| = {np.max(np.abs(z_all)):.2f} over {dof} steps x rates x schemes"),
+              f"max |z| = {np.max(np.abs(z_all)):.2f} over {dof} steps × rates × schemes"),
         Claim("all-send is the lower bound: below the trigger by more than 4 s.e. (paired)",
               bool(np.all(zl < -Z_TOL)), f"largest z = {np.max(zl):.1f}"),
     ]

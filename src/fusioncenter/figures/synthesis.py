@@ -299,7 +299,7 @@ def checks_frontier(data: dict) -> list[Claim]:
               "(paired)", bool(0.0 <= pfkf_rel + Z_TOL * data["pf_minus_kf_allsend_se"][0]
                              / data["allsend_pos"][0] and pfkf_rel < 0.02),
               f"excess {100 * pfkf_rel:.2f}% of the KF's RMSE"),
-        Claim("the trigger's Kalman filter is exact at every rate: mean(||e||^2 - tr P) = 0 "
+        Claim("the trigger's Kalman filter is exact at every rate: mean(‖e‖² − tr P) = 0 "
               "(4 s.e.)", bool(np.all(np.abs(zc) < Z_TOL)), f"max |z| = {np.max(np.abs(zc)):.2f}"),
     ]
 
@@ -430,11 +430,11 @@ def checks_cost(data: dict) -> list[Claim]:
     dec = bool(np.all(np.diff(data["excess"]) < Z_TOL * np.hypot(data["excess_se"][1:],
                                                                   data["excess_se"][:-1])))
     return [
-        Claim("a CFwMD particle-filter step costs at least 100x the Kalman filter's operations "
+        Claim("a CFwMD particle-filter step costs at least 100× the Kalman filter's operations "
               "from 500 particles on (two orders of magnitude)",
               bool(np.all(ratio[big] >= 100)),
               f"KF {data['kf_flops']} flops; ratios " + ", ".join(
-                  f"{int(q)}: {r:.0f}x" for q, r in zip(data["particles"], ratio, strict=True))),
+                  f"{int(q)}: {r:.0f}×" for q, r in zip(data["particles"], ratio, strict=True))),
         Claim("the particle filter's cost grows in proportion to the particles and CFwMD "
               "costs more than CFoMD (silent-sensor probabilities)",
               bool(np.allclose(per, per[0]) and order), f"{per[0]:.0f} flops per particle"),
@@ -659,7 +659,7 @@ def checks_fading(data: dict) -> list[Claim]:
               f"naive - CFoMD z = {z_nc[-1]:.1f}; channel-aware - CFoMD z = "
               + ", ".join(f"{v:.1f}" for v in z_cc)),
         Claim("with channel knowledge the trigger's Kalman filter stays exact (and all-send's): "
-              "mean(||e||^2 - tr P) = 0 within 4 s.e.; the naive trigger's P is overconfident "
+              "mean(‖e‖² − tr P) = 0 within 4 s.e.; the naive trigger's P is overconfident "
               "(z > 4) at every outage > 0",
               bool(np.all(np.abs(zc) < Z_TOL) and np.all(zc_naive > Z_TOL)),
               f"max |z| exact = {np.max(np.abs(zc)):.2f}; naive z = "
@@ -667,13 +667,13 @@ def checks_fading(data: dict) -> list[Claim]:
         Claim("event-based schemes spend more packets as the channel worsens: more at the "
               "largest outage than on a perfect link (paired z > 4), never significantly fewer "
               "from one outage to the next", bool(np.all(zspan > Z_TOL) and np.all(zr > -Z_TOL)),
-              "sent at outage 0 -> max: " + ", ".join(
-                  f"{data[k + '_rate'][0]:.3f} -> {data[k + '_rate'][-1]:.3f}" for k in _EVENT)),
+              "sent at outage 0 → max: " + ", ".join(
+                  f"{data[k + '_rate'][0]:.3f} → {data[k + '_rate'][-1]:.3f}" for k in _EVENT)),
         Claim("at equal energy (within 2%: per-packet power = budget / design rate, the "
               "measured rate then within 2% of it) and the largest outage, the trigger (half the "
               "packets, about twice the power each) beats all-send (paired z < -4)",
               bool(ze[-1] < -Z_TOL and np.all(np.abs(energy - 1) < 0.02)),
-              f"z = {ze[-1]:.1f} at eps_1 = {data['energy_outage_full'][-1]:g}; energy used / "
+              f"z = {ze[-1]:.1f} at ε₁ = {data['energy_outage_full'][-1]:g}; energy used / "
               "budget = " + ", ".join(f"{v:.3f}" for v in energy)),
     ]
 

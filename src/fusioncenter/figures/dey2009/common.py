@@ -223,7 +223,7 @@ def converged_claim(name: str, seqs: dict, limits: dict) -> Claim:
     rel = {k: abs(seqs[k][..., -1] - limits[k]) / limits[k] for k in seqs}
     worst = max(float(np.max(v)) for v in rel.values())
     return Claim(name, worst <= 1e-6,
-                 "; ".join(f"|{k}_100 - {k}*| / {k}* <= {float(np.max(v)):.1e}"
+                 "; ".join(f"|{k}₁₀₀ − {k}*|/{k}* ≤ {float(np.max(v)):.1e}"
                            for k, v in rel.items()))
 
 

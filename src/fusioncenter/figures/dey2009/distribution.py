@@ -147,24 +147,24 @@ def checks_distribution(data: dict) -> list[Claim]:
     """Lower envelope, stationarity, independence of p_0, skewness and the tails."""
     n = data["n_paths"]
     claims = [
-        Claim("every sampled p_k is above the sure lower envelope (the Riccati recursion of a "
-              "perfect channel, r -> inf)",
+        Claim("every sampled pₖ is above the sure lower envelope (the Riccati recursion of a "
+              "perfect channel, r → ∞)",
               bool(min(data["rayleigh_min_rel_gap"], data["nakagami_min_rel_gap"])
                    >= -REL_SLACK),
-              f"min over paths and k >= 1 of (p_k - l_k) / l_k: "
+              f"min over paths and k ≥ 1 of (pₖ − lₖ)/lₖ: "
               f"{data['rayleigh_min_rel_gap']:.3e} (Rayleigh), "
               f"{data['nakagami_min_rel_gap']:.3e} (Nakagami)"),
-        Claim(f"stationary by k = 80: two-sample KS (disjoint halves of the paths) of p_80 vs "
-              f"p_100 does not reject at level {KS_LEVEL:g}",
+        Claim(f"stationary by k = 80: two-sample KS (disjoint halves of the paths) of p₈₀ vs "
+              f"p₁₀₀ does not reject at level {KS_LEVEL:g}",
               bool(min(data["rayleigh_ks_time"], data["nakagami_ks_time"]) > KS_LEVEL),
               f"p-values {data['rayleigh_ks_time']:.3f}, {data['nakagami_ks_time']:.3f}"),
-        Claim(f"the stationary law does not depend on p_0: KS of p_100 from p_0 = {P0:g} vs "
-              f"p_0 = {data['p0_alt']:g} does not reject at level {KS_LEVEL:g}",
+        Claim(f"the stationary law does not depend on p₀: KS of p₁₀₀ from p₀ = {P0:g} vs "
+              f"p₀ = {data['p0_alt']:g} does not reject at level {KS_LEVEL:g}",
               bool(min(data["rayleigh_ks_p0"], data["nakagami_ks_p0"]) > KS_LEVEL),
               f"p-values {data['rayleigh_ks_p0']:.3f}, {data['nakagami_ks_p0']:.3f}"),
     ]
     za = [(0.5 - data[f"{k}_above_mean"]) / np.sqrt(0.25 / n) for k in ("rayleigh", "nakagami")]
-    claims.append(Claim("right-skewed: P(p_100 > E[p_100]) < 1/2 by more than 4 binomial s.e.",
+    claims.append(Claim("right-skewed: P(p₁₀₀ > E[p₁₀₀]) < 1/2 by more than 4 binomial s.e.",
                         bool(min(za) > Z_TOL),
                         f"{data['rayleigh_above_mean']:.3f}, {data['nakagami_above_mean']:.3f} "
                         f"(z = {za[0]:.1f}, {za[1]:.1f})", paper_specific=True))
@@ -178,14 +178,14 @@ def checks_distribution(data: dict) -> list[Claim]:
         "Nakagami(1/2) spreads p more, not just shifts it: more mass below the pooled 5% "
         "quantile AND above the pooled 95% quantile than Rayleigh (> 4 s.e. each)",
         bool(z_lo > Z_TOL and z_hi > Z_TOL),
-        f"P(p <= {data['x_lo']:.1f}): {data['nakagami_cdf_lo']:.3f} vs "
+        f"P(p ≤ {data['x_lo']:.1f}): {data['nakagami_cdf_lo']:.3f} vs "
         f"{data['rayleigh_cdf_lo']:.3f} (z = {z_lo:.1f}); P(p > {data['x_hi']:.1f}): "
         f"{data['nakagami_sf_hi']:.3f} vs {data['rayleigh_sf_hi']:.3f} (z = {z_hi:.1f})",
         paper_specific=True))
     zm = max_finite(np.concatenate([
         excess_z(data[f"{k}_mean"][1:], data[f"{k}_stderr"][1:], data[f"{k}_s"][1:])
         for k in ("rayleigh", "nakagami")]))
-    claims.append(Claim("the mean of the distribution stays below the tight bound s_k (4 s.e.)",
+    claims.append(Claim("the mean of the distribution stays below the tight bound sₖ (4 s.e.)",
                         bool(zm < Z_TOL), f"max z = {zm:.2f}"))
     return claims
 

@@ -121,21 +121,21 @@ def checks_multi(data: dict) -> list[Claim]:
     s_wins, t_wins = _tighter(data["s_limit"], data["t_limit"])
     gs, gt = _tighter(data["grid_s_limit"], data["grid_t_limit"])
     return [
-        dominance_claim("E[p_k] <= s_k at every k and setting (MC mean - 4 s.e.)",
+        dominance_claim("E[pₖ] ≤ sₖ at every k and setting (MC mean − 4 s.e.)",
                          data["mean"], data["stderr"], data["s"]),
-        dominance_claim("E[p_k] <= t_k at every k and setting (MC mean - 4 s.e.)",
+        dominance_claim("E[pₖ] ≤ tₖ at every k and setting (MC mean − 4 s.e.)",
                          data["mean"], data["stderr"], data["t"]),
-        converged_claim("s_k and t_k converge to their fixed points",
+        converged_claim("sₖ and tₖ converge to their fixed points",
                          {"s": data["s"], "t": data["t"]},
                          {"s": data["s_limit"], "t": data["t_limit"]}),
-        stationary_claim("E[p_k] has converged: per-path averages over k in [60, 80) and "
-                          "[80, 100] agree within 4 s.e.", data["window_diff"],
+        stationary_claim("E[pₖ] has converged: per-path averages over 60 ≤ k < 80 and "
+                          "80 ≤ k ≤ 100 agree within 4 s.e.", data["window_diff"],
                           data["window_diff_stderr"]),
-        Claim("each of s and t is the tighter bound in some setting (lambda_1, lambda_2)",
+        Claim("each of s and t is the tighter bound in some setting (λ₁, λ₂)",
               s_wins and t_wins,
               "s*, t* = " + "; ".join(f"{s:.2f}, {t:.2f}" for s, t in
                                       zip(data["s_limit"], data["t_limit"], strict=True))),
-        dominance_claim("alternative (lambda_1, lambda_2) grid: E[p_k] <= min(s_k, t_k) at "
+        dominance_claim("alternative (λ₁, λ₂) grid: E[pₖ] ≤ min(sₖ, tₖ) at "
                          "every k", data["grid_mean"], data["grid_stderr"],
                          np.minimum(data["grid_s"], data["grid_t"])),
         Claim("alternative grid: each of s and t is the tighter bound somewhere", gs and gt,
@@ -155,8 +155,8 @@ _MULTI_PARAMS = {
 _MULTI_TEXT = (
     "Two sensors, {channel}: E[pₖ] by Monte Carlo against {s} and the AM-HM bound tₖ{eq} for "
     "three (λ₁, λ₂); last panel: which bound is tighter over a grid of alternatives.",
-    "Both bounds dominate E[p_k] and converge; {which}, as the paper says. lambda_1, lambda_2 "
-    "are our choice (not stated) and the conclusions hold on a 4 x 4 grid of alternatives.",
+    "Both bounds dominate E[pₖ] and converge; {which}, as the paper says. λ₁, λ₂ "
+    "are our choice (not stated) and the conclusions hold on a 4 × 4 grid of alternatives.",
 )
 for _fig, _compute, _text in (
         ("3", compute_fig3, {"channel": "multi-access (coherent sum) channel", "eq": "",

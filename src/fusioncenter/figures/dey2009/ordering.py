@@ -135,23 +135,23 @@ def checks_ordering(data: dict) -> list[Claim]:
         np.vstack([data["s_sensor1_last"], data["sweep_s_sensor1_last"]]),
         np.vstack([data["s_sensor2_last"], data["sweep_s_sensor2_last"]]))
     return [
-        dominance_claim("multi-access, (22) respected (worst sensor last): E[p_k] <= s_k at "
-                         "every k and lambda_2", np.vstack([data["ma_mean"],
+        dominance_claim("multi-access, (22) respected (worst sensor last): E[pₖ] ≤ sₖ at "
+                         "every k and λ₂", np.vstack([data["ma_mean"],
                                                             data["sweep_ma_mean"]]),
                          np.vstack([data["ma_stderr"], data["sweep_ma_stderr"]]),
                          np.vstack([data["s_valid"], data["sweep_s_valid"]])),
-        Claim("multi-access, (22) violated (best sensor last): the sequence falls below E[p_k] "
+        Claim("multi-access, (22) violated (best sensor last): the sequence falls below E[pₖ] "
               "by more than 4 s.e. (it is not a bound)", bool(max_finite(zviol) > Z_TOL),
               f"max z = {max_finite(zviol):.1f}; at k = 100: E[p] = {data['ma_mean'][-1]:.3f}, "
               f"sequence {data['s_sensor1_last'][-1]:.3f}"),
-        Claim("why: on the coherent multi-access channel the noisier sensor hurts - E[p_100] "
+        Claim("why: on the coherent multi-access channel the noisier sensor hurts: E[p₁₀₀] "
               "with both sensors exceeds sensor 1 alone by > 4 s.e.", bool(zalone > Z_TOL),
               f"z = {zalone:.1f}"),
-        dominance_claim("orthogonal: both single-sensor sequences (either order) bound E[p_k] "
-                         "at every k and lambda_2 (no ordering needed)",
+        dominance_claim("orthogonal: both single-sensor sequences (either order) bound E[pₖ] "
+                         "at every k and λ₂ (no ordering needed)",
                          orth_mean, orth_se, orth_bound),
-        dominance_claim("multi-access: t_k (AM-HM, no ordering needed) bounds E[p_k] at every "
-                         "k and lambda_2", data["sweep_ma_mean"], data["sweep_ma_stderr"],
+        dominance_claim("multi-access: tₖ (AM-HM, no ordering needed) bounds E[pₖ] at every "
+                         "k and λ₂", data["sweep_ma_mean"], data["sweep_ma_stderr"],
                          data["sweep_t_ma"]),
     ]
 

@@ -154,30 +154,30 @@ def plot_fig2(data: dict):
 def _checks_scalar(data: dict) -> list[Claim]:
     k1 = abs_z(data["mean"][:, 1], data["stderr"][:, 1], data["s"][:, 1])
     claims = [
-        dominance_claim("E[p_k] <= s_k at every k and sigma_v (MC mean - 4 s.e.)",
+        dominance_claim("E[pₖ] ≤ sₖ at every k and σᵥ (MC mean − 4 s.e.)",
                          data["mean"], data["stderr"], data["s"]),
-        Claim("s_k <= q_k at every k (tight below loose)",
+        Claim("sₖ ≤ qₖ at every k (tight below loose)",
               bool(np.all(data["s"] <= data["q"] * (1 + REL_SLACK))),
-              f"smallest q_k / s_k = {float(np.min(data['q'][:, 1:] / data['s'][:, 1:])):.4f}"),
-        Claim("the tight bound is exact at k = 1 (p_0 deterministic): MC E[p_1] = s_1 within "
+              f"smallest qₖ/sₖ = {float(np.min(data['q'][:, 1:] / data['s'][:, 1:])):.4f}"),
+        Claim("the tight bound is exact at k = 1 (p₀ deterministic): MC E[p₁] = s₁ within "
               "4 s.e.", bool(np.all(k1 < Z_TOL)),
               f"|z| = {', '.join(f'{x:.2f}' for x in k1)}"),
-        converged_claim("s_k and q_k converge to their fixed points s*, q* (root finding)",
+        converged_claim("sₖ and qₖ converge to their fixed points s*, q* (root finding)",
                          {"s": data["s"], "q": data["q"]},
                          {"s": data["s_limit"], "q": data["q_limit"]}),
-        Claim("gamma* <= s* <= q* (MC E[p_100] - 4 s.e. <= s*)",
+        Claim("γ* ≤ s* ≤ q* (MC E[p₁₀₀] − 4 s.e. ≤ s*)",
               bool(np.all(excess_z(data["mean"][:, -1], data["stderr"][:, -1],
                                     data["s_limit"]) < Z_TOL)
                    and np.all(data["s_limit"] <= data["q_limit"])),
-              "E[p_100], s*, q* = " + "; ".join(
+              "E[p₁₀₀], s*, q* = " + "; ".join(
                   f"{m:.2f}, {s:.2f}, {q:.2f}" for m, s, q in
                   zip(data["mean"][:, -1], data["s_limit"], data["q_limit"], strict=True))),
-        stationary_claim("E[p_k] has converged: per-path averages over k in [60, 80) and "
-                          "[80, 100] agree within 4 s.e.", data["window_diff"],
+        stationary_claim("E[pₖ] has converged: per-path averages over 60 ≤ k < 80 and "
+                          "80 ≤ k ≤ 100 agree within 4 s.e.", data["window_diff"],
                           data["window_diff_stderr"]),
-        dominance_claim("alternative sigma_v and E[p_0] (grid): E[p_k] <= s_k at every k",
+        dominance_claim("alternative σᵥ and E[p₀] (grid): E[pₖ] ≤ sₖ at every k",
                          data["grid_mean"], data["grid_stderr"], data["grid_s"]),
-        Claim("alternative sigma_v and E[p_0] (grid): s_k <= q_k at every k and both converge",
+        Claim("alternative σᵥ and E[p₀] (grid): sₖ ≤ qₖ at every k and both converge",
               bool(np.all(data["grid_s"] <= data["grid_q"] * (1 + REL_SLACK))
                    and np.all(np.abs(data["grid_s"][:, -1] / data["grid_s_limit"] - 1) < 1e-6)
                    and np.all(np.abs(data["grid_q"][:, -1] / data["grid_q_limit"] - 1) < 1e-6)),
@@ -187,15 +187,15 @@ def _checks_scalar(data: dict) -> list[Claim]:
         z = ((data["mean"][:, -1] - data["rayleigh_mean"][:, -1])
              / np.hypot(data["stderr"][:, -1], data["rayleigh_stderr"][:, -1]))
         claims += [
-            Claim("Nakagami(1/2) is worse than Rayleigh: E[p_100] larger by > 4 s.e. for every "
-                  "sigma_v", bool(np.all(z > Z_TOL)), f"z = {', '.join(f'{x:.1f}' for x in z)}"),
-            Claim("Nakagami(1/2)'s tight bound is above Rayleigh's at every k >= 1 (main and "
+            Claim("Nakagami(1/2) is worse than Rayleigh: E[p₁₀₀] larger by > 4 s.e. for every "
+                  "σᵥ", bool(np.all(z > Z_TOL)), f"z = {', '.join(f'{x:.1f}' for x in z)}"),
+            Claim("Nakagami(1/2)'s tight bound is above Rayleigh's at every k ≥ 1 (main and "
                   "grid settings)",
                   bool(np.all(data["s"][:, 1:] > data["rayleigh_s"][:, 1:])
                        and np.all(data["grid_s"][:, 1:] >= data["grid_rayleigh_s"][:, 1:])),
-                  "s~* / s* = " + ", ".join(f"{x:.3f}" for x in
+                  "s̃*/s* = " + ", ".join(f"{x:.3f}" for x in
                                            data["s_limit"] / data["rayleigh_s_limit"])
-                  + "; loose q~* / q* = " + ", ".join(
+                  + "; loose q̃*/q* = " + ", ".join(
                       f"{x:.3f}" for x in data["q_limit"] / data["rayleigh_q_limit"])
                   + " (not asserted: the paper says 'generally worse')"),
         ]
@@ -221,8 +221,8 @@ register_figure(
     parameters=_SCALAR_PARAMS,
     functions=(compute_fig1, plot_fig1, _checks_scalar),
     settable=SETTABLE_PATHS,
-    note="E[p_k] <= s_k <= q_k at every k and all three converge, as the paper describes; "
-    "sigma_v in {1, 5, 10} and E[p_0] = 1 are our choice (not stated in the paper) and the "
+    note="E[pₖ] ≤ sₖ ≤ qₖ at every k and all three converge, as the paper describes; "
+    "σᵥ ∈ {1, 5, 10} and E[p₀] = 1 are our choice (not stated in the paper) and the "
     "conclusions hold on a grid of alternatives.",
 )
 
@@ -238,9 +238,9 @@ register_figure(
                 "the printed nested root is kept in the data as q_as_printed (see errata)"},
     functions=(compute_fig2, plot_fig2, _checks_scalar),
     settable=SETTABLE_PATHS,
-    note="E[p_k] <= s~_k <= q~_k, convergence, and worse than Rayleigh (mean and tight bound), "
+    note="E[pₖ] ≤ s̃ₖ ≤ q̃ₖ, convergence, and worse than Rayleigh (mean and tight bound), "
     "as described; the loose bound (20) is used with its denominator as derived (the printed "
     "(20) has a nested square root, see the errata); the Nakagami loose bound is not above "
-    "Rayleigh's for large sigma_v, consistent with the paper's 'generally worse'.",
+    "Rayleigh's for large σᵥ, consistent with the paper's 'generally worse'.",
 )
 

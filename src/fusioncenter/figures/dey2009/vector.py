@@ -139,18 +139,18 @@ def checks_vector(data: dict) -> list[Claim]:
     quad_rel = np.max(np.abs(closed - data["Z_next_quadrature"])) / np.max(np.abs(closed))
     conv = np.max(np.abs(Z[-1] - Z[-2])) / np.max(np.abs(Z[-1]))
     return [
-        Claim("exact at k = 1 (P_0 deterministic): E[P_1] = Zbar_1 entrywise within 4 s.e.",
+        Claim("exact at k = 1 (P₀ deterministic): E[P₁] = Z̄₁ entrywise within 4 s.e.",
               bool(np.all(z1 < Z_TOL)), f"|z| = {', '.join(f'{x:.2f}' for x in z1)} "
               "(0 where the entry is deterministic)"),
-        dominance_claim(f"E[P_k] <= Zbar_k in the PSD order: v'E[P_k]v <= v'Zbar_k v + 4 s.e. "
+        dominance_claim(f"E[Pₖ] ≤ Z̄ₖ in the PSD order: vᵀE[Pₖ]v ≤ vᵀZ̄ₖv + 4 s.e. "
                          f"for {N_DIRECTIONS} directions and every k",
                          data["mean_vPv"].T, data["stderr_vPv"].T, data["Z_vPv"].T),
         Claim("the closed form of Section 3.2 equals Theorem 3.3's recursion (14) evaluated by "
               "quadrature", bool(quad_rel < 1e-8), f"max relative difference {quad_rel:.1e}"),
-        Claim("Zbar_k converges (|Zbar_100 - Zbar_99| <= 1e-9 |Zbar_100|)", bool(conv < 1e-9),
+        Claim("Z̄ₖ converges (|Z̄₁₀₀ − Z̄₉₉| ≤ 10⁻⁹ |Z̄₁₀₀|)", bool(conv < 1e-9),
               f"{conv:.1e}", paper_specific=True),
-        stationary_claim("E[tr P_k] has converged: windows [60, 80) and [80, 100] agree within "
-                          "4 s.e.", [data["window_diff"]], [data["window_diff_stderr"]],
+        stationary_claim("E[tr Pₖ] has converged: windows 60 ≤ k < 80 and 80 ≤ k ≤ 100 agree "
+                          "within 4 s.e.", [data["window_diff"]], [data["window_diff_stderr"]],
                           paper_specific=True),
     ]
 
@@ -168,7 +168,7 @@ register_figure(
                 "a stable one (0.9), only the first state measured."},
     functions=(compute_vector, plot_vector, checks_vector),
     settable=SETTABLE_VECTOR,
-    note="Our own figure (the paper has none for Section 3.2); E[P_k] <= Zbar_k in the PSD "
+    note="Our own figure (the paper has none for Section 3.2); E[Pₖ] ≤ Z̄ₖ in the PSD "
     "order within the stated Monte Carlo error.",
 )
 

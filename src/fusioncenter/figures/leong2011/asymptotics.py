@@ -88,13 +88,14 @@ def checks_fig1(data: dict) -> list[Claim]:
     return [
         Claim("closed form (8) equals the fixed point of the recursion (4)", fixed < 1e-12,
               f"max relative difference {fixed:.1e}"),
-        Claim("P_inf decreases with M and stays above sigma_w2",
-              bool(np.all(np.diff(P) < 0) and np.all(P > sw)), f"P_inf(M=100) = {P[-1]:.5f}"),
-        Claim("1/M law (13): M (P_inf - sigma_w2) -> K = a^2 (sigma_v2 + sigma_n2/h^2) / c^2, "
+        Claim("P∞ decreases with M and stays above σ_w²",
+              bool(np.all(np.diff(P) < 0) and np.all(P > sw)), f"P∞ = {P[-1]:.5f} at M = 100"),
+        Claim("1/M law (13): M (P∞ − σ_w²) → K = a²(σᵥ² + σₙ²/h²)/c², "
               "with an O(1/M) error (M times the error levels off)",
               bool(np.all(np.diff(err[M >= 5]) < 0) and np.ptp(tail) < 0.05 * tail[-1]),
-              f"K = {K:.4f}; M (P - sw) = {scaled[0]:.4f} (M=1), {scaled[-1]:.4f} (M=100); "
-              f"M^2 |P - sw - K/M| in [{tail.min():.4f}, {tail.max():.4f}] for M >= 50"),
+              f"K = {K:.4f}; M (P∞ − σ_w²) = {scaled[0]:.4f} at M = 1, {scaled[-1]:.4f} at "
+              f"M = 100; M²|P∞ − σ_w² − K/M| between {tail.min():.4f} and {tail.max():.4f} "
+              "for M ≥ 50"),
         Claim("the asymptotic expression is accurate at 20 sensors (relative error < 1 %)",
               rel20 < 0.01, f"relative error at M = 20: {rel20:.2e}", paper_specific=True),
     ]
@@ -175,19 +176,19 @@ def checks_fig2(data: dict) -> list[Claim]:
     exact = (data["exact_lower"] <= P * (1 + 1e-12)) & (P <= data["exact_upper"] * (1 + 1e-12))
     lo_c, hi_c = M * (data["lower"] - sw), M * (data["upper"] - sw)
     return [
-        Claim("P_inf lies between the bounds (37) at every M >= 2 (asymptotic bounds)",
+        Claim("P∞ lies between the bounds (37) at every M ≥ 2 (asymptotic bounds)",
               bool(np.all(within)),
               f"{int(np.sum(~within))} of {int(np.sum(big))} values of M outside",
               paper_specific=True),
-        Claim("P_inf lies between the exact bounds (steady state at the extreme SNRs)",
+        Claim("P∞ lies between the exact bounds (steady state at the extreme SNRs)",
               bool(np.all(exact)), f"{int(np.sum(~exact))} outside"),
-        Claim("both bounds converge to sigma_w2 at rate 1/M: M (bound - sigma_w2) is constant",
+        Claim("both bounds converge to σ_w² at rate 1/M: M (bound − σ_w²) is constant",
               bool(np.ptp(lo_c) < 1e-12 and np.ptp(hi_c) < 1e-12),
               f"constants {lo_c[0]:.4f} and {hi_c[0]:.4f}"),
-        Claim("P_inf - sigma_w2 = O(1/M): M (P_inf - sigma_w2) stays between the bounds' "
-              "constants (M >= 2)",
+        Claim("P∞ − σ_w² = O(1/M): M (P∞ − σ_w²) stays between the bounds' "
+              "constants (M ≥ 2)",
               bool(np.all(((M * (P - sw) >= lo_c) & (M * (P - sw) <= hi_c))[big])),
-              f"M (P - sw) in [{np.min(M * (P - sw)):.4f}, {np.max(M * (P - sw)):.4f}]",
+              f"M (P∞ − σ_w²) between {np.min(M * (P - sw)):.4f} and {np.max(M * (P - sw)):.4f}",
               paper_specific=True),
     ]
 
@@ -199,20 +200,20 @@ register_figure(
     "against K/M (log-log).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig1", parameters=FIG1,
     functions=(compute_fig1, plot_fig1, checks_fig1), settable=SETTABLE_FIG1,
-    note="Deterministic. The range M = 1..100 is our choice (not stated). As the paper says, "
-    "the 1/M expression is accurate from 20-30 sensors on.",
+    note="Deterministic. The range M = 1, …, 100 is our choice (not stated). As the paper says, "
+    "the 1/M expression is accurate from 20–30 sensors on.",
 )
 
 register_figure(
     id="leong2011-fig2", paper="leong2011",
-    caption="Multi-access with general sensor parameters (cᵢ, σᵢ², hᵢ in [0.5, 1]), "
+    caption="Multi-access with general sensor parameters (cᵢ, σᵢ², hᵢ each between 0.5 and 1), "
     "αᵢ = 1/√M: P∞ against M between the asymptotic lower and upper bounds (37) "
     "of Lemma 4 (and the exact bounds at the extreme SNRs).",
     chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig2", parameters=FIG2,
     functions=(compute_fig2, plot_fig2, checks_fig2), settable=SETTABLE_FIG2,
     note="One seeded draw (uniform on the ranges, which the paper does not specify). The "
-    "paper's notation C_i, R_i in this passage stands for c_i, sigma_i^2. P_inf lies between "
-    "the bounds, as in the paper; (37) drops O(1/M^2) terms, so we check it from M = 2 on (at "
+    "paper's notation Cᵢ, Rᵢ in this passage stands for cᵢ, σᵢ². P∞ lies between "
+    "the bounds, as in the paper; (37) drops O(1/M²) terms, so we check it from M = 2 on (at "
     "M = 1 about 16 % of draws fall below the lower one) and add exact bounds valid at all M.",
 )
 

@@ -220,13 +220,13 @@ def checks_fading(data: dict) -> list[Claim]:
     z = data["log_ratio"] / data["log_ratio_stderr"]
     what = "sum power" if data["panel"] == "a" else "error variance"
     if data["panel"] == "a":
-        res = Claim("CSI: P_{k+1} <= D at every step; no CSI: P_inf = D (relative 1e-9)",
+        res = Claim("CSI: Pₖ₊₁ ≤ D at every step; no CSI: P∞ = D (relative 10⁻⁹)",
                     bool(np.all(data["max_residual_csi"] < 1e-9)
                          and np.all(data["max_residual_nocsi"] < 1e-9)),
-                    f"max P_k/D - 1 = {np.max(data['max_residual_csi']):.1e}; "
-                    f"|P_inf/D - 1| <= {np.max(data['max_residual_nocsi']):.1e}")
+                    f"max Pₖ/D − 1 = {np.max(data['max_residual_csi']):.1e}; "
+                    f"|P∞/D − 1| ≤ {np.max(data['max_residual_nocsi']):.1e}")
     else:
-        res = Claim("both schemes spend exactly gamma_total (relative 1e-9)",
+        res = Claim("both schemes spend exactly γ_total (relative 10⁻⁹)",
                     bool(np.all(data["max_residual_csi"] < 1e-9)
                          and np.all(data["max_residual_nocsi"] < 1e-9)),
                     f"max residuals {np.max(data['max_residual_csi']):.1e}, "
@@ -240,7 +240,7 @@ def checks_fading(data: dict) -> list[Claim]:
               "of means no-CSI / CSI = " + ", ".join(f"{r:.3f}" for r in data["loss_ratio"])),
         res,
         Claim(f"the linear MMSE variance (32)-(33) is the simulated error: time-averaged "
-              f"e_k^2 / P_k = 1 within {Z_TOL:.0f} s.e. (system + fading + filter simulated)",
+              f"eₖ²/Pₖ = 1 within {Z_TOL:.0f} s.e. (system + fading + filter simulated)",
               bool(np.all(np.abs(zl) < Z_TOL)),
               "M = " + ", ".join(str(m) for m in data["lmmse_M"]) + ": ratio "
               + ", ".join(f"{r:.4f}" for r in data["lmmse_mse_ratio"])
@@ -269,6 +269,6 @@ register_panels(
     "error variance under the sum-power budget γ_total = 10⁻³",
     (compute_fading, plot_fading, checks_fading), chapter=CH_FADING, parameters=FADING,
     settable=SETTABLE_FADING,
-    note="Paper's parameters, 1000 steps x 100 realizations (paper profile). Our choices: M = 2, "
-    "4, ..., 20; P_0 = D in (a), sigma_w2/(1-a^2) in (b); realizations where a scheme cannot "
+    note="Paper's parameters, 1000 steps × 100 realizations (paper profile). Our choices: M = 2, "
+    "4, …, 20; P₀ = D in (a), σ_w²/(1 − a²) in (b); realizations where a scheme cannot "
     "meet D are redrawn (acceptance in the data).")

@@ -198,8 +198,8 @@ def checks_static(data: dict) -> list[Claim]:
     """The closed form against SLSQP, optimal never worse, the constraints, the trend in M
     (and, Fig. 4, the benefit compared with multi-access)."""
     opt, se = data["optimal"], data["optimal_stderr"]
-    what = "sum power" if data["panel"] == "a" else "P_inf"
-    resid = "P_inf = D" if data["panel"] == "a" else "sum power = gamma_total"
+    what = "sum power" if data["panel"] == "a" else "P∞"
+    resid = "P∞ = D" if data["panel"] == "a" else "sum power = γ_total"
     out = [
         Claim("closed form equals the SLSQP optimum (relative 1e-6) on sampled realizations",
               data["solver_rel_gap"] < REL_TOL,
@@ -215,7 +215,7 @@ def checks_static(data: dict) -> list[Claim]:
         Claim(f"general trend downwards in M: mean optimal {what} at the largest M below the "
               f"smallest M's by more than {Z_TOL:.0f} s.e.",
               bool(opt[0] - opt[-1] > Z_TOL * np.hypot(se[0], se[-1])),
-              f"{opt[0]:.4g} (M={data['M'][0]}) -> {opt[-1]:.4g} (M={data['M'][-1]})"),
+              f"{opt[0]:.4g} at M = {data['M'][0]} → {opt[-1]:.4g} at M = {data['M'][-1]}"),
     ]
     if "benefit_diff" in data:
         # pooled over M (independent realizations at each M): at M = 2 the two benefits are
@@ -240,6 +240,6 @@ register_panels(
     (compute_static, plot_static, checks_static), chapter=CH_ALLOCATION, parameters=STATIC,
     settable=SETTABLE_STATIC,
     note="Paper's parameters and 1000 realizations per point (paper profile). Our choices: M = "
-    "2, 4, ..., 20, and infeasible realizations (target D unreachable by one of the schemes, "
-    "rare for M >= 2) are redrawn; the acceptance rate is in the data. The multi-access "
+    "2, 4, …, 20, and infeasible realizations (target D unreachable by one of the schemes, "
+    "rare for M ≥ 2) are redrawn; the acceptance rate is in the data. The multi-access "
     "max-error allocation uses the corrected (24).")

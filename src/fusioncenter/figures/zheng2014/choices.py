@@ -38,6 +38,12 @@ CHOICES = {
     "fed back: particle-cloud moments": {"feedback_moments": "particles"},
     "x_0 unknown: P_0 = I": {"P0": ((1.0, 0.0), (0.0, 1.0))},
 }
+#: How a variant is named on the page, where its key (in the data and the parameters) is not.
+_SHOWN = {"x_0 unknown: P_0 = I": "x₀ unknown: P₀ = I"}
+
+
+def _shown(name) -> str:
+    return _SHOWN.get(str(name), str(name))
 
 
 @functools.lru_cache(maxsize=4)
@@ -85,7 +91,7 @@ def plot_choices(data: dict):
         col = plotting.OKABE_ITO[v % len(plotting.OKABE_ITO)]
         for ax, key in ((ax1, "cfwmd"), (ax2, "cfwmd2")):
             ax.errorbar(l, data[key][v] - l, yerr=1.96 * data[f"{key}_stderr"][v], color=col,
-                        marker=plotting.MARKERS[v + 4], capsize=2, label=str(name))
+                        marker=plotting.MARKERS[v + 4], capsize=2, label=_shown(name))
     for ax, key in ((ax1, "cfwmd"), (ax2, "cfwmd2")):
         ax.axhline(0.0, color="0.4", lw=0.8, ls=":")
         ax.set(xlabel="target number of transmissions per step l (-)",
@@ -107,19 +113,19 @@ def checks_choices(data: dict) -> list[Claim]:
     dz = data["diff_z"]
     mid = (l > 1) & (l < 3)
     return [
-        Claim("under every choice, CFwMD2 sends closer to l than CFwMD for l >= 2 (by more "
+        Claim("under every choice, CFwMD2 sends closer to l than CFwMD for l ≥ 2 (by more "
               "than 4 standard errors; z-scores at every l in the detail)",
               bool(np.all(cz[:, l >= 2] > Z_ORDER) and np.all(
                   (np.abs(data["cfwmd2"] - l) < np.abs(a - l))[:, l >= 2])),
-              "; ".join(f"{n}: " + ", ".join(f"{x:.1f}" for x in cz[v])
+              "; ".join(f"{_shown(n)}: " + ", ".join(f"{x:.1f}" for x in cz[v])
                         for v, n in enumerate(data["variants"]))),
-        Claim("under every choice, CFwMD sends fewer than l for l >= 1.5",
+        Claim("under every choice, CFwMD sends fewer than l for l ≥ 1.5",
               bool(np.all(za[:, hi] < -Z_ORDER)),
               f"largest z = {float(np.max(za[:, hi])):.1f}"),
         Claim("under every choice, CFwMD2 has the lower position RMSE for 1 < l < 3 (paired "
               "point estimates; z-scores in the detail)",
               bool(np.all(dz[:, mid] < 0)),
-              "; ".join(f"{n}: " + ", ".join(f"{x:.1f}" for x in dz[v, mid])
+              "; ".join(f"{_shown(n)}: " + ", ".join(f"{x:.1f}" for x in dz[v, mid])
                         for v, n in enumerate(data["variants"]))),
     ]
 
@@ -136,7 +142,7 @@ add_entry(
     "choices the paper leaves open: r for sensors 3-4, what the FC feeds back (moments of the "
     "weighted posterior propagated analytically, or of the propagated particle cloud), and "
     "x₀ known or not.",
-    note="The book's own sensitivity check (512 trials in the paper profile, 256 x 150 "
+    note="The book's own sensitivity check (512 trials in the paper profile, 256 × 150 "
     "particles in the fast one). The conclusions (CFwMD2 meets the target l more closely and "
     "has the lower RMSE for 1 < l < 3; CFwMD sends fewer than l) do not depend on the choices. "
     "In the paper profile none of them raises CFwMD's rates to the printed Table I: r = 2 for "

@@ -253,7 +253,7 @@ def z_claim_ordered(name: str, pairs, diff, se) -> Claim:
     Claim
     """
     z = -np.asarray(diff) / np.asarray(se)
-    detail = "; ".join(f"{a} - {b} = {d:+.4f} +/- {s:.4f} (z = {zz:.1f})"
+    detail = "; ".join(f"{a} − {b} = {d:+.4f} ± {s:.4f} (z = {zz:.1f})"
                        for (a, b), d, s, zz in zip(pairs, diff, se, z, strict=True))
     return Claim(name, bool(np.all(z > Z_ORDER)), detail)
 
@@ -484,8 +484,9 @@ def checks_schemes(data: dict) -> list[Claim]:
               bool(all(abs(c - data["l"]) < 0.1 * data["l"] for c in cens)),
               f"CFwMD {cens[0]:.4f}, CFoMD {cens[1]:.4f} per step"),
         Claim("no step lost its data to a collapse of the weights",
-              bool(np.all(data["collapsed"] == 0)), f"collapsed (trial, step) pairs "
-              f"{data['collapsed'].tolist()}"),
+              bool(np.all(data["collapsed"] == 0)), "collapsed (trial, step) pairs: " + ", ".join(
+                  f"{LABELS[str(s)]} {int(n)}" for s, n in zip(sch, data["collapsed"],
+                                                             strict=True))),
     ]
 
 

@@ -178,7 +178,7 @@ add_entry(
     "CFoMD and CFwMD (Monte Carlo, 95 % bands).",
     note="The paper's ordering all-send < CFwMD < CFoMD < random holds for position and "
     "velocity with large paired z-scores. The figure's axes are not given numerically in the "
-    "text, so only the ordering and the transmission rate are compared. Open choices (x_0 "
+    "text, so only the ordering and the transmission rate are compared. Open choices (x₀ "
     "known, what is fed back, random selection) are listed in the parameters.")
 
 
@@ -237,7 +237,7 @@ def checks_fig2(data: dict) -> list[Claim]:
     return [
         Claim("l = 1: CFwMD beats CFwMD2 (the covariance feedback makes silent runs longer)",
               bool(z[l == 1.0][0] > Z_ORDER),
-              f"CFwMD2 - CFwMD = {d[l == 1.0][0]:+.4f} +/- {s[l == 1.0][0]:.4f} m "
+              f"CFwMD2 − CFwMD = {d[l == 1.0][0]:+.4f} ± {s[l == 1.0][0]:.4f} m "
               f"(z = {z[l == 1.0][0]:.1f})"),
         Claim("1 < l < 3: CFwMD2 beats CFwMD (paired differences of the time-averaged position "
               "RMSE)", bool(np.all(-z[mid] > Z_ORDER)),
@@ -245,8 +245,8 @@ def checks_fig2(data: dict) -> list[Claim]:
                         for li, di, zi in zip(l[mid], d[mid], z[mid], strict=True))),
         Claim("l = 3: the covariance feedback helps less than at l = 2 (relative gain)",
               bool(g[i3] < g[i2]),
-              f"relative gain {g[i2]:.4f} +/- {gs[i2]:.4f} at l = 2, "
-              f"{g[i3]:.4f} +/- {gs[i3]:.4f} at l = 3"),
+              f"relative gain {g[i2]:.4f} ± {gs[i2]:.4f} at l = 2, "
+              f"{g[i3]:.4f} ± {gs[i3]:.4f} at l = 3"),
         claim_rmse_decreases(data),
     ]
 
@@ -300,21 +300,21 @@ def checks_table1(data: dict) -> list[Claim]:
     off = a - data["paper_cfwmd"]
     return [
         Claim("l > 1: CFwMD2 sends closer to l than CFwMD (paired, per-trial averages: by more "
-              "than 4 standard errors for l >= 1.5, in the point estimates at l = 1.2)",
+              "than 4 standard errors for l ≥ 1.5, in the point estimates at l = 1.2)",
               bool(np.all(cz[hi] > Z_ORDER) and np.all(closer[mid])),
               "; ".join(f"l = {li:g}: z = {zi:.1f}" for li, zi in
                         zip(l[mid], cz[mid], strict=True))),
-        Claim("l >= 1.2: CFwMD sends fewer than l (its s_k^i ignores the feedback's error, "
+        Claim("l ≥ 1.2: CFwMD sends fewer than l (its sₖⁱ ignores the feedback's error, "
               "Remark 1 (III))",
               bool(np.all((a - l)[mid] / data["cfwmd_stderr"][mid] < -Z_ORDER)),
               ", ".join(f"{v:.4f}" for v in a[mid])),
-        Claim("l >= 1.2: CFwMD2 agrees with the paper's Table I (|z| < 4)",
+        Claim("l ≥ 1.2: CFwMD2 agrees with the paper's Table I (|z| < 4)",
               bool(np.all(np.abs(zb[mid]) < Z_TOL)),
               "z = " + ", ".join(f"{v:.2f}" for v in zb) + " (l = 1 first)",
               paper_specific=True),
         Claim("CFwMD is within 0.05 transmissions per step of the paper's Table I at every l",
               bool(np.all(np.abs(off) < 0.05)),
-              "ours - paper = " + ", ".join(f"{v:+.4f}" for v in off)
+              "ours − paper = " + ", ".join(f"{v:+.4f}" for v in off)
               + "; z = " + ", ".join(f"{v:.2f}" for v in data["z_cfwmd"]),
               paper_specific=True),
         Claim("l = 1: CFwMD2 has more pairs of consecutive steps without any transmission "
@@ -323,7 +323,7 @@ def checks_table1(data: dict) -> list[Claim]:
               f"per trial {data['silent_pairs'][0, 1]:.3f} vs {data['silent_pairs'][0, 0]:.3f} "
               f"(paired z = {data['silent_pairs_z'][0]:.1f})"),
         Claim("a step without any transmission is more frequent than the independent-sensor "
-              "value (1 - l/N)^N the paper quotes (the decisions share the fed-back prediction "
+              "value (1 − l/N)ᴺ the paper quotes (the decisions share the fed-back prediction "
               "error)", bool(np.all(data["p_none"] > data["p_none_independent"][:, None])),
               "l = 1: " + ", ".join(f"{v:.3f}" for v in data["p_none"][0])
               + f" vs {data['p_none_independent'][0]:.3f}; l = 2: "
@@ -332,8 +332,8 @@ def checks_table1(data: dict) -> list[Claim]:
         Claim("l = 1: both schemes send more than l (as in the paper)",
               bool((a[0] - 1) / data["cfwmd_stderr"][0] > Z_ORDER
                    and (b[0] - 1) / data["cfwmd2_stderr"][0] > Z_ORDER),
-              f"CFwMD {a[0]:.4f} +/- {data['cfwmd_stderr'][0]:.4f}, CFwMD2 "
-              f"{b[0]:.4f} +/- {data['cfwmd2_stderr'][0]:.4f}"),
+              f"CFwMD {a[0]:.4f} ± {data['cfwmd_stderr'][0]:.4f}, CFwMD2 "
+              f"{b[0]:.4f} ± {data['cfwmd2_stderr'][0]:.4f}"),
     ]
 
 

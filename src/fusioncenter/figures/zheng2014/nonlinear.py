@@ -207,8 +207,7 @@ def plot_fig7(data: dict):
 
 @checks_doc()
 def checks_fig7(data: dict) -> list[Claim]:
-    """Fig. 7: the 3 x 3 grid, the trajectory's start, the target leaving the region, the
-    distance to the nearest sensor growing over the last 5 s."""
+    """Fig. 7: the grid, the start, the target leaving, the nearest sensor receding at the end."""
     s, h = data["sensors"], data["region_half_width"]
     xs, ys = np.unique(np.round(s[:, 0], 9)), np.unique(np.round(s[:, 1], 9))
     grid = len(s) == 9 and len(xs) == 3 and len(ys) == 3 and np.all(np.abs(s) <= h)
@@ -217,13 +216,14 @@ def checks_fig7(data: dict) -> list[Claim]:
     fo = data["fraction_outside"]
     T = len(fo) - 1
     z_d = z_score(data["nearest_distance_increase"], data["nearest_distance_increase_stderr"])
+    xy = [censoring.scenarios.values_text(np.round(v, 2)) for v in (xs, ys, tr[0], tr[-1])]
     return [
-        Claim("N = 9 sensors on a 3 x 3 grid inside the 20 m x 20 m region", bool(grid),
-              f"abscissae {np.round(xs, 2)}, ordinates {np.round(ys, 2)}, half-width {h:g} m"),
-        Claim("the sample trajectory starts at x0 = (-8, -8) m inside the region and crosses it",
+        Claim("N = 9 sensors on a 3 × 3 grid inside the 20 m × 20 m region", bool(grid),
+              f"abscissae {xy[0]} m, ordinates {xy[1]} m, half-width {h:g} m"),
+        Claim("the sample trajectory starts at x₀ = (−8, −8) m inside the region and crosses it",
               bool(np.allclose(tr[0], data["x0"][[0, 2]]) and inside[: T // 2].all()
                    and np.ptp(tr[:, 0]) > h and np.ptp(tr[:, 1]) > h),
-              f"start {np.round(tr[0], 2)}, end {np.round(tr[-1], 2)} m", paper_specific=True),
+              f"start {xy[2]} m, end {xy[3]} m", paper_specific=True),
         Claim("the target moves out of the region near the end (most trajectories are inside at "
               "t = 5 s and outside at t = 10 s)", bool(fo[T // 2] < 0.1 and fo[-1] > 0.5),
               f"fraction outside: {fo[T // 2]:.3f} at 5 s, {fo[-1]:.3f} at 10 s "
@@ -327,11 +327,11 @@ def checks_fig8(data: dict) -> list[Claim]:
               f"difference {d2:+.3f} m, z = {z2:.1f} (needed {-zq:.2f})"),
         Claim("compared to all-send CFwMD loses some accuracy (all-send is the best), but less "
               "than CFoMD does", bool(z3 > zq and z1 < -zq),
-              f"CFwMD - all-send {d3:+.3f} m (z = {z3:.1f}); CFoMD - all-send "
+              f"CFwMD − all-send {d3:+.3f} m (z = {z3:.1f}); CFoMD − all-send "
               f"{data['diff_cfomd-all-send']:+.3f} m"),
         Claim("CFwMD saves at least 78 % of the transmissions of all-send (at most l = 2 of 9 "
               "sensors per step on average)", bool(z_tx < Z_AGREE),
-              f"{tx:.3f} +/- {tx_se:.3f} sensors per step: saving {100 * saving:.1f} %"),
+              f"{tx:.3f} ± {tx_se:.3f} sensors per step: saving {100 * saving:.1f} %"),
         Claim("the RMSEs increase at the later steps (the target leaves the region): RMSE at "
               "10 s exceeds RMSE at 5 s, summed over the schemes, and for no scheme "
               "significantly less", bool(z_pool > zq and np.all(z_rise > -Z_WEAK)),
@@ -620,16 +620,16 @@ def checks_table3(data: dict) -> list[Claim]:
     zq = z_required(Z_ORDER, data["trials"])
     return [
         Claim("CFwMD2 meets the bandwidth target more closely than CFwMD for each l "
-              "(|l - lbar| smaller, paired)", bool(np.all(z_close > zq)),
+              "(|l − l̄| smaller, paired)", bool(np.all(z_close > zq)),
               "z = " + ", ".join(f"{v:.1f}" for v in z_close) + f" (needed {zq:.2f})"),
         Claim("with state feedback only, the sensors send fewer than l measurements per step "
               "(CFwMD, as in Table III)", bool(np.all(z_under < -zq)),
               ", ".join(f"l = {l:g}: {v:.3f} (printed {p:.4f})"
                         for l, v, p in zip(L, t1, p1, strict=True))),
-        Claim("covariance feedback removes more than half of CFwMD's shortfall l - lbar at "
+        Claim("covariance feedback removes more than half of CFwMD's shortfall l − l̄ at "
               "every l, as in the printed table (paired)",
               bool(np.all(z_half > zq) and printed_half),
-              ", ".join(f"l = {l:g}: {l - a:.3f} -> {l - b:.3f} (printed {l - c:.3f} -> "
+              ", ".join(f"l = {l:g}: {l - a:.3f} → {l - b:.3f} (printed {l - c:.3f} → "
                         f"{l - d:.3f})" for l, a, b, c, d in
                         zip(L, t1, data["cfwmd2_transmissions"], p1, p2, strict=True))
               + "; z = " + ", ".join(f"{v:.1f}" for v in z_half) + f" (needed {zq:.2f})"),
@@ -638,9 +638,9 @@ def checks_table3(data: dict) -> list[Claim]:
 
 # ============================================================================ registration
 _NOTE_SCENARIO = (
-    "Scenario: the paper's parameters; sensors at the centres of the 3 x 3 cells of "
-    "[-10, 10]^2 m and the true trajectory starting at x0 = (-8, 2, -8, 2) in every trial (the "
-    "filters' prior N(x0, diag(9, 4, 9, 4))): neither is stated in the paper. ")
+    "Scenario: the paper's parameters; sensors at the centres of the 3 × 3 cells of "
+    "[−10, 10]² m and the true trajectory starting at x₀ = (−8, 2, −8, 2) in every trial (the "
+    "filters' prior N(x₀, diag(9, 4, 9, 4))): neither is stated in the paper. ")
 
 
 def _entry(entry_id: str, kind: str, status: str, functions: tuple, parameters: dict,
@@ -657,7 +657,7 @@ _entry(
     "target trajectory (with the mean path).",
     "The sensor positions are our choice (the paper draws them but does "
     "not list them); the statements checked are where the target goes (it leaves the region "
-    "near the end), from 10^4 simulated trajectories.", settable=SETTABLE_FIG7)
+    "near the end), from 10⁴ simulated trajectories.", settable=SETTABLE_FIG7)
 
 _entry(
     "zheng2014-fig8", "figure", "reproduced", (compute_fig8, plot_fig8, checks_fig8),
@@ -674,7 +674,7 @@ _entry(
     {"l": list(L_FIG9), "feedback": "state (Proposition 7)",
      "x_axis": "measured average transmissions per step; all-send at 9"},
     "Nonlinear tracking: time-averaged RMSE against the average number of transmissions "
-    "per step, l in {1, 2, 4, 6, 8}, state feedback.",
+    "per step, l ∈ {1, 2, 4, 6, 8}, state feedback.",
     "The values of l are our choice (the paper does not list them). "
     "Runs at l = 2 are those of Fig. 8 and the CFwMD runs at l = 2, 4, 6 those of Fig. 10. "
     "Beyond the paper: at paper scale random selection beats CFoMD from l = 6 on (paired z = "

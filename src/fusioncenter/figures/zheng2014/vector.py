@@ -200,14 +200,14 @@ def checks_fig5(data: dict) -> list[Claim]:
     return [
         Claim("l = 2, 3: CFwMD2 beats CFwMD (paired differences of the time-averaged position "
               "RMSE), as the paper says", bool(np.all(-z[hi] > common.Z_ORDER)),
-              "; ".join(f"l = {li:g}: CFwMD2 - CFwMD = {di:+.4f} +/- {si:.4f} (z = {zi:.1f})"
+              "; ".join(f"l = {li:g}: CFwMD2 − CFwMD = {di:+.4f} ± {si:.4f} (z = {zi:.1f})"
                         for li, di, si, zi in zip(l[hi], d[hi], s[hi], z[hi], strict=True))),
-        Claim("l = 1: CFwMD beats CFwMD2, as with scalar observations (Fig. 2) -- the paper "
+        Claim("l = 1: CFwMD beats CFwMD2, as with scalar observations (Fig. 2); the paper "
               "reports CFwMD2 better at every l for vector observations",
               bool(z[i1] > common.Z_ORDER),
-              f"CFwMD2 - CFwMD = {d[i1]:+.4f} +/- {s[i1]:.4f} m (z = {z[i1]:.1f})"),
+              f"CFwMD2 − CFwMD = {d[i1]:+.4f} ± {s[i1]:.4f} m (z = {z[i1]:.1f})"),
         Claim("l = 1: about 40 % of the steps carry no measurement under both schemes (the "
-              "paper's (3/4)^4 = 0.32 for independent sensors, more with feedback)",
+              "paper's (3/4)⁴ = 0.32 for independent sensors, more with feedback)",
               bool(np.all((sil[:, i1] > 0.32) & (sil[:, i1] < 0.5))),
               f"fraction of silent steps: CFwMD {sil[0, i1]:.4f}, CFwMD2 {sil[1, i1]:.4f}"),
         common.claim_rmse_decreases(data),
@@ -242,17 +242,17 @@ def checks_table2(data: dict) -> list[Claim]:
         Claim("l > 1: CFwMD2 sends closer to l than CFwMD (paired, per-trial averages)",
               bool(np.all(cz[hi] > common.Z_ORDER)),
               "; ".join(f"l = {li:g}: z = {zi:.1f}" for li, zi in zip(l, cz, strict=True))),
-        Claim("l > 1: CFwMD sends fewer than l (its S_k^i ignores the feedback's error, "
+        Claim("l > 1: CFwMD sends fewer than l (its Sₖⁱ ignores the feedback's error, "
               "Remark 1 (III))",
               bool(np.all((a - l)[hi] / data["cfwmd_stderr"][hi] < -common.Z_ORDER)),
               ", ".join(f"{v:.4f}" for v in a)),
         Claim("CFwMD2 is within 0.03 transmissions per step of the paper's Table II at every l",
               bool(np.all(np.abs(b - data["paper_cfwmd2"]) < 0.03)),
-              "ours - paper = " + ", ".join(f"{v:+.4f}" for v in b - data["paper_cfwmd2"])
+              "ours − paper = " + ", ".join(f"{v:+.4f}" for v in b - data["paper_cfwmd2"])
               + "; z = " + ", ".join(f"{v:.2f}" for v in zb)),
         Claim("l = 2: CFwMD agrees with the paper's Table II (|z| < 4)",
               bool(abs(za[l == 2.0][0]) < common.Z_TOL),
-              "z = " + ", ".join(f"{v:.2f}" for v in za) + " (l = 1, 2, 3); ours - paper = "
+              "z = " + ", ".join(f"{v:.2f}" for v in za) + " (l = 1, 2, 3); ours − paper = "
               + ", ".join(f"{v:+.4f}" for v in a - data["paper_cfwmd"])),
     ]
 
@@ -269,7 +269,7 @@ common.add_entry(
     "and covariance fed back); (c) their time averages against l.",
     reason="at l = 1 CFwMD beats CFwMD2, the reversal the paper reports for scalar "
     "observations but not for vector ones (at l = 2 and 3 CFwMD2 wins, as in the paper)",
-    note="CFwMD2 beats CFwMD at l = 2 and 3, as in the paper, but at l = 1 CFwMD is better -- "
+    note="CFwMD2 beats CFwMD at l = 2 and 3, as in the paper, but at l = 1 CFwMD is better: "
     "the reversal the paper reports for scalar observations (Fig. 2) and says it did not "
     "observe for vector ones. The paper's explanation for the scalar case (longer runs of "
     "silent steps under CFwMD2) does not carry over: both schemes leave about 40 % of the "
@@ -291,9 +291,9 @@ common.add_entry(
     note="Same runs as Fig. 5. CFwMD2 meets the target l closely for every l and is closer "
     "to it than CFwMD for l > 1, as in the paper; it agrees with the printed CFwMD2 values "
     "within 0.02 (at the paper's scale z = -1.4, -0.8, -3.7). CFwMD agrees with the printed "
-    "value at l = 2 (1.7557 +/- 0.0035 against 1.7573) but not at l = 1 (0.9991 +/- 0.0029 "
+    "value at l = 2 (1.7557 ± 0.0035 against 1.7573) but not at l = 1 (0.9991 ± 0.0029 "
     "against 0.9296, z = 17: the paper's FC would predict better than a sensor's own filter) "
-    "nor at l = 3 (2.7706 +/- 0.0032 against 2.8029, z = -7). The rate of CFwMD depends on "
+    "nor at l = 3 (2.7706 ± 0.0032 against 2.8029, z = -7). The rate of CFwMD depends on "
     "how well the FC predicts relative to the sensors' own filters, hence on open choices "
     "(what is fed back, the initial state, R of sensors 3 and 4).")
 
