@@ -146,7 +146,7 @@ def compute_rate(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_rate(data: dict):
-    """Rate against ``delta`` per sensor, prior mean 0 (left) and ``xbar`` (right), with the
+    """Rate against ``delta`` per sensor, panel (a) prior mean 0 and panel (b) ``xbar``, with the
     Monte Carlo points."""
     fig, axes = plotting.subplots(1, 2, sharey=True, stack=True)
     titles = [r"prior mean $\bar x = 0$ (the notes)",
@@ -490,7 +490,7 @@ def _rmse(mse, se):
 
 @plot_doc()
 def plot_tracking(data: dict):
-    """Position (left) and velocity RMSE against transmissions per step, per scheme."""
+    """(a) position and (b) velocity RMSE against transmissions per step, per scheme."""
     fig, axes = plotting.subplots(1, 2, stack=True)
     m = data["m"]
     names = ["position", "velocity"]

@@ -87,7 +87,7 @@ def compute_ordering(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_ordering(data: dict):
-    """The violated bound at the main setting (left) and steady states against lambda_2."""
+    """(a) The violated bound at the main setting and (b) steady states against lambda_2."""
     fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     c = plotting.OKABE_ITO

@@ -101,7 +101,7 @@ def compute_vector(profile: str, seed: int, **over) -> dict:
 
 @plot_doc()
 def plot_vector(data: dict):
-    """The entries of E[P_k] against Zbar_k (left) and the PSD order by direction (right)."""
+    """(a) The entries of E[P_k] against Zbar_k and (b) the PSD order by direction."""
     fig, (ax, ax2) = plotting.subplots(1, 2, stack=True)
     k = data["k"]
     names = [(0, (0, 0), "$[E P_k]_{11}$", r"$\bar Z_{k,11}$"),
