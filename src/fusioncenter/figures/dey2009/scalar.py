@@ -141,7 +141,8 @@ def _plot_scalar(data: dict, eqs: tuple[str, str], law: str):
 
 @plot_doc()
 def plot_fig1(data: dict):
-    """Fig. 1: E[p_k] with its bounds per sigma_v (panels (a)-(c)), ratios on the alternative grid (last)."""
+    """Fig. 1: E[p_k] with its bounds, one panel per sigma_v, then the ratios on the alternative
+    grid."""
     return _plot_scalar(data, ("$s_k$ (17)", "$q_k$ (18)"), "Rayleigh")
 
 
