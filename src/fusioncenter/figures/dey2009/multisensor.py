@@ -153,8 +153,8 @@ _MULTI_PARAMS = {
 
 #: The captions and notes of Figs. 3 and 4: one template, the scheme filled in.
 _MULTI_TEXT = (
-    "Two sensors, {channel}: E[pₖ] by Monte Carlo against {s} and the AM-HM bound tₖ{eq} for "
-    "three (λ₁, λ₂); last panel: which bound is tighter over a grid of alternatives.",
+    "Two sensors, {channel}: (a)–(c) E[pₖ] by Monte Carlo against {s} and the AM-HM bound "
+    "tₖ{eq} for three (λ₁, λ₂); (d) which bound is tighter over a grid of alternatives.",
     "Both bounds dominate E[pₖ] and converge; {which}, as the paper says. λ₁, λ₂ "
     "are our choice (not stated) and the conclusions hold on a 4 × 4 grid of alternatives.",
 )
