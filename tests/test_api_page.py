@@ -87,6 +87,7 @@ def test_dotted_names_break_at_their_dots():
     ("c^2 = 1e160", r"c^2 = 1 \times 10^{160}"),
     ("i in {1, ..., N}", r"i \in \{1, \dots , N\}"),
     ("(..., m, n)", r"(\dots , m, n)"),
+    ("eta = chi2_{n_i}(l/N)", r"\eta = \chi^2_{n_i}(l/N)"),
 ])
 def test_plain_text_formulas_are_read_as_tex(text, tex):
     assert api_modules.ascii_math(text) == tex

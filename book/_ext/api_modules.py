@@ -109,12 +109,15 @@ def _summary(module: str, document) -> str:
 class _ModuleTable(SphinxDirective):
     """A table of modules: the name links to the module's page, then the one-line summary."""
 
-    def table(self, modules: list[str]) -> list[str]:
+    def table(self, modules: list[str], package: str = "") -> list[str]:
+        """The table's reST; names inside ``package`` (a package's own table) are shown
+        relative to it (``checks`` on the page of ``fusioncenter.censoring``)."""
         lines = [".. list-table::", "   :class: fc-api-modules", "   :header-rows: 1", "",
                  "   * - Module", "     - Summary"]
         for name in modules:
             summary = _summary(name, self.state.document).replace("\n", " ")
-            lines += [f"   * - :doc:`{name} </{page_docname(name)}>`", f"     - {summary}"]
+            shown = name.removeprefix(package + ".") if package else name
+            lines += [f"   * - :doc:`{shown} </{page_docname(name)}>`", f"     - {summary}"]
         return lines + [""]
 
     def parse(self, lines: list[str], modules: list[str]) -> list[nodes.Node]:
@@ -163,7 +166,7 @@ class FusioncenterModule(_ModuleTable):
         kids = children(module, public_modules(module.split(".")[0]))
         lines = []
         if kids:
-            lines += [".. rubric:: Modules of this package", "", *self.table(kids)]
+            lines += [".. rubric:: Modules of this package", "", *self.table(kids, module)]
         lines += [f".. automodule:: {module}", *_AUTOMODULE]
         return self.parse(lines, [module])
 
@@ -240,6 +243,7 @@ def ascii_math(text: str) -> str | None:
     if re.fullmatch(r"[-+]?\d+(\.\d+)?(e[-+]?\d+)?", text):  # a bare number stays code
         return None
     text = _ACCENT.sub(r"\1\2", text)  # x_hat: xhat
+    text = re.sub(r"\bchi2(?![A-Za-z0-9])", "chi^2", text)  # the chi-square law
     text = _TWO_SUBSCRIPTS.sub(r"\1_{\2,\3}", text)  # sigma_v2_i: sigma_{v2,i}
     tokens = [(m.lastgroup, m.group()) for m in _TOKEN.finditer(text)]
     if any(kind == "other" for kind, _ in tokens):
