@@ -88,6 +88,8 @@ def test_dotted_names_break_at_their_dots():
     ("i in {1, ..., N}", r"i \in \{1, \dots , N\}"),
     ("(..., m, n)", r"(\dots , m, n)"),
     ("eta = chi2_{n_i}(l/N)", r"\eta = \chi^2_{n_i}(l/N)"),
+    ("alpha_i = 1/sqrt(M)", r"\alpha_i = 1/\sqrt{M}"),
+    ("g <= 2 u / (u + sqrt(u^2 + 4/pi))", r"g \le 2 u / (u + \sqrt{u^2 + 4/\pi})"),
 ])
 def test_plain_text_formulas_are_read_as_tex(text, tex):
     assert api_modules.ascii_math(text) == tex

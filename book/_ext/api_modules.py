@@ -267,6 +267,18 @@ def ascii_math(text: str) -> str | None:
             if tok in FUNCTIONS and tok != "inf" and i + 1 < len(tokens) \
                     and tokens[i + 1][1] == "_":  # exp_e1: a Python name
                 return None
+            if tok == "sqrt" and i + 1 < len(tokens) and tokens[i + 1][1] == "(":
+                depth = 0  # sqrt(u^2 + 4/pi): \sqrt{u^2 + 4/pi}, its parentheses dropped
+                for j in range(i + 1, len(tokens)):
+                    depth += {"(": 1, ")": -1}.get(tokens[j][1], 0)
+                    if depth == 0:
+                        tokens[j] = ("op", "}")
+                        break
+                else:
+                    return None
+                out.append(r"\sqrt{")
+                i += 2
+                continue
             tex = _word_tex(tok)
             if tex is None:
                 if prev != "_" or not has_operator:
