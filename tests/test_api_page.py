@@ -1,4 +1,5 @@
-"""The API reference page: which modules it lists, and how it prepares docstrings."""
+"""The API reference: an index page and one page per public module (which modules, where their
+pages are, the toc entries), and how it prepares docstrings (bars, typeset formulas)."""
 
 from __future__ import annotations
 
@@ -23,9 +24,97 @@ def test_public_modules_are_found_and_private_ones_left_out():
     assert "fusioncenter.figures.catalog" not in names  # deleted with the placeholders
 
 
-def test_the_page_is_in_the_toc_and_uses_the_directive():
-    assert "- file: book/api" in (ROOT / "_toc.yml").read_text()
+def test_the_index_is_in_the_toc_and_uses_the_directive():
+    assert "- file: book/api\n" in (ROOT / "_toc.yml").read_text()
     assert ".. fusioncenter-api:: fusioncenter" in (ROOT / "book/api.md").read_text()
+
+
+def test_every_public_module_has_its_page_in_the_toc():
+    """The pages of book/api/ and the toc's sections of book/api are those tools/api_pages.py
+    writes for the package as it is (a module added, renamed or removed needs a re-run)."""
+    import subprocess
+
+    res = subprocess.run([sys.executable, str(ROOT / "tools/api_pages.py"), "--check"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0, res.stdout + res.stderr
+    toc = (ROOT / "_toc.yml").read_text()
+    for name in api_modules.public_modules("fusioncenter")[1:]:
+        doc = api_modules.page_docname(name)
+        page = ROOT / f"{doc}.md"
+        assert page.read_text() == api_modules.page_text(name)
+        assert f"- file: {doc}\n" in toc, name
+    assert "book/api/censoring/vector_likelihood" in toc
+
+
+def test_page_names_and_toc_nesting():
+    assert api_modules.page_docname("fusioncenter") == "book/api"
+    assert api_modules.page_docname("fusioncenter.riccati") == "book/api/riccati"
+    assert api_modules.page_docname("fusioncenter.figures.zheng2014.common") == \
+        "book/api/figures/zheng2014/common"
+    mods = ["p", "p.a", "p.b", "p.b.c", "p.b.d", "p.e"]
+    assert api_modules.children("p", mods) == ["p.a", "p.b", "p.e"]
+    assert api_modules.children("p.b", mods) == ["p.b.c", "p.b.d"]
+    sections = api_modules.toc_sections("fusioncenter", indent="")
+    i = sections.index("  - file: book/api/event")
+    assert sections[i + 1:i + 4] == ["    title: event", "    sections:",
+                                     "      - file: book/api/event/kf"]
+    text = api_modules.page_text("fusioncenter.event.kf")
+    assert "\n# fusioncenter.event.kf\n" in text
+    assert ".. fusioncenter-module:: fusioncenter.event.kf" in text
+
+
+def test_dotted_names_break_at_their_dots():
+    from docutils import nodes
+
+    para = nodes.paragraph("", "", nodes.Text("fusioncenter.figures.zheng2014"))
+    api_modules.break_at_dots(para)
+    assert [type(n).__name__ for n in para.children] == ["Text", "wbr", "Text", "wbr", "Text"]
+    assert para.astext() == "fusioncenter.figures.zheng2014"  # the text is unchanged
+
+
+@pytest.mark.parametrize(("text", "tex"), [
+    ("x_{k+1} = A x_k + w_k", "x_{k+1} = A x_k + w_k"),
+    ("P - P C^T (C P C^T + R)^{-1} C P", "P - P C^T (C P C^T + R)^{-1} C P"),
+    ("xi_i ~ U[0, 1]", r"\xi_i \sim U[0, 1]"),
+    ("1 - E exp(-y^2 / (2 delta))", r"1 - E \exp(-y^2 / (2 \delta))"),
+    ("xhat_{k|k-1}", r"\hat{x}_{k|k-1}"),
+    ("x_hat_{k|k-1}", r"\hat{x}_{k|k-1}"),
+    ("sigma_v2", r"\sigma_{v2}"),
+    ("P_inf <= D", r"P_{\infty} \le D"),
+    ("|U_i| >= a_i", r"|U_i| \ge a_i"),
+    ("s = g P_pred g^T + r", r"s = g P_{\mathrm{pred}} g^T + r"),
+    ("R^-1", "R^{-1}"),
+    ("c^2 = 1e160", r"c^2 = 1 \times 10^{160}"),
+    ("i in {1, ..., N}", r"i \in \{1, \dots , N\}"),
+    ("(..., m, n)", r"(\dots , m, n)"),
+    ("eta = chi2_{n_i}(l/N)", r"\eta = \chi^2_{n_i}(l/N)"),
+    ("alpha_i = 1/sqrt(M)", r"\alpha_i = 1/\sqrt{M}"),
+    ("g <= 2 u / (u + sqrt(u^2 + 4/pi))", r"g \le 2 u / (u + \sqrt{u^2 + 4/\pi})"),
+])
+def test_plain_text_formulas_are_read_as_tex(text, tex):
+    assert api_modules.ascii_math(text) == tex
+
+
+@pytest.mark.parametrize("text", [
+    "steps", "True", "p_avg", "n_sensors", "np.inf", "exp_e1(0) = inf", "10**-0.3", "_",
+    "scalar_update(p, c, r)", "(steps + 1, *broadcast_shape)", '"velocity"', "1e-9", "0",
+    "fusioncenter.riccati", " (the ", "book/leong2011/allocation", "--json", "x = [position]",
+])
+def test_code_stays_code(text):
+    assert api_modules.ascii_math(text) is None
+
+
+def test_docstring_lines_get_math_roles():
+    line = "Model: ``x_{k+1} = A x_k + w_k`` via :func:`step` with ``steps``; $\\sigma^2$ here."
+    assert api_modules.typeset_math(line) == (
+        "Model: :math:`x_{k+1} = A x_k + w_k` via :func:`step` with ``steps``; "
+        ":math:`\\sigma^2` here.")
+    assert api_modules.typeset_math(":func:`f` ``$x$``") == ":func:`f` ``$x$``"
+    lines = ["Bound ``|a| < 1`` and |a|.", "", "    ``|a|`` in a literal::", "",
+             "    ``|a|``"]
+    api_modules.prepare_docstring(None, "function", "m.f", None, {}, lines)
+    assert lines[0] == r"Bound :math:`|a| < 1` and \|a\|."
+    assert lines[4] == "    ``|a|``"  # inside the literal block: as written
 
 
 @pytest.mark.parametrize(("line", "expected"), [

@@ -208,14 +208,22 @@ def test_reader_notebook_reports_what_it_cannot_resolve():
     assert any("unknown role {foo}" in p for p in problems)
 
 
-def test_reader_notebook_links_library_names_to_the_api_page():
+def test_reader_notebook_links_library_names_to_their_module_pages():
+    """A library name links to its entry on its module's page of the API reference; a name the
+    reference does not document links to the API index."""
     resolver = _resolver()
     resolver.doc = lambda t: Link("S/book/api.html", "API") if t == "/book/api" else None
+    pages = {"fusioncenter.riccati.riccati_step": "riccati",
+             "fusioncenter.particle.FilterModel": "particle"}
+    resolver.py = lambda t: (Link(f"S/book/api/{pages[t]}.html#{t}", t) if t in pages else None)
     out, problems = reader_notebook(
         _executed_notebook("{py:func}`riccati.riccati_step <fusioncenter.riccati.riccati_step>`"
-                           " and {py:class}`~fusioncenter.particle.FilterModel`"),
+                           " and {py:class}`~fusioncenter.particle.FilterModel`"
+                           " and {py:func}`fusioncenter.nowhere`"),
         resolver, page_url="S", book_title="B", version="1")
     assert problems == []
     text = out["cells"][2]["source"]
-    assert "[`riccati.riccati_step`](S/book/api.html#fusioncenter.riccati.riccati_step)" in text
-    assert "[`FilterModel`](S/book/api.html#fusioncenter.particle.FilterModel)" in text
+    assert "[`riccati.riccati_step`](S/book/api/riccati.html#fusioncenter.riccati.riccati_step)" \
+        in text
+    assert "[`FilterModel`](S/book/api/particle.html#fusioncenter.particle.FilterModel)" in text
+    assert "[`fusioncenter.nowhere`](S/book/api.html)" in text

@@ -174,7 +174,16 @@ def _resolver(app, pagename: str, doctree, entries) -> Resolver:
                 return ".".join(map(str, figtype[label]))
         return ""
 
-    return Resolver(doc=doc, ref=ref, eq=eq, prf=prf, number=number,
+    def py(target: str):
+        from api_modules import documented_name
+
+        full = documented_name(env, target)
+        if full is None:
+            return None
+        entry = env.get_domain("py").objects[full]
+        return Link(url(entry.docname, entry.node_id), full)
+
+    return Resolver(doc=doc, ref=ref, eq=eq, prf=prf, number=number, py=py,
                     cite=lambda keys, textual: _cite(entries, keys, textual),
                     reference=lambda key: _reference(entries, key))
 

@@ -55,7 +55,8 @@ class Link:
 class Resolver:
     """The book's cross-reference targets, as seen from one page.
 
-    Each ``*`` callable returns a :class:`Link` or ``None`` when the target is unknown.
+    Each ``*`` callable returns a :class:`Link` or ``None`` when the target is unknown
+    (``py``: a library name, linked to its entry on its module's page of the API reference).
     ``cite(keys, textual)`` returns the citation text; ``reference(key)`` the bibliography
     line of one entry.
     """
@@ -67,6 +68,8 @@ class Resolver:
     cite: Callable[[list[str], bool], str]
     reference: Callable[[str], str]
     number: Callable[[str], str] = lambda label: ""
+    #: a library name (``fusioncenter.event.posterior``): its entry on its module's API page
+    py: Callable[[str], Link | None] = lambda target: None
     cited: list[str] = field(default_factory=list)
 
 
@@ -148,8 +151,11 @@ class _Rewriter:
             text, target = _split_explicit(body)
             target = target.lstrip("~.")
             shown = text or (target.rpartition(".")[2] if body.strip().startswith("~") else target)
-            page = self.r.doc("/book/api")
-            return f"[`{shown}`]({page.url}#{target})" if page else f"`{shown}`"
+            link = self.r.py(target)
+            if link is None:  # not documented: the API index, or plain code
+                page = self.r.doc("/book/api")
+                return f"[`{shown}`]({page.url})" if page else f"`{shown}`"
+            return f"[`{shown}`]({link.url})"
         if role in ("sub", "sup", "abbr", "term", "code", "kbd", "file", "samp"):
             return body
         self.problems.append(f"unknown role {{{role}}}")
