@@ -67,3 +67,11 @@ def test_tables():
     md = book.md_table(["a", "b"], [(1, "x"), (2.5, "y")])
     assert isinstance(md, Markdown) and md.data == src
     assert book.markdown_table(["only"], []) == "| only |\n|---|"
+
+
+def test_a_pipe_in_a_table_cell_keeps_the_columns():
+    from fusioncenter.book import markdown_table
+
+    text = markdown_table(["what", "largest $|z|$"], [["a | b", "$|x| \\le 1$"]])
+    assert text.splitlines()[0] == r"| what | largest $\vert{}z\vert{}$ |"
+    assert text.splitlines()[2] == r"| a \| b | $\vert{}x\vert{} \le 1$ |"

@@ -933,7 +933,9 @@ _GREEK = ("alpha|beta|gamma|delta|epsilon|zeta|eta|theta|kappa|lambda|mu|nu|xi|p
           "tau|phi|chi|psi|omega|Gamma|Delta|Sigma|Phi|Psi|Omega|Lambda|Theta")
 ASCII_MATH = [
     ("hat name", re.compile(r"\b[A-Za-z]+_hat(?![A-Za-z])|\bhat_[A-Za-z]")),
-    ("Greek name with index", re.compile(rf"\b(?:{_GREEK})(?:_\{{?[A-Za-z0-9]|\^\d)")),
+    # sigma_v, lambda_12, sigma_w2, zeta_inf, gamma^2; not an identifier (delta_for_rate)
+    ("Greek name with index", re.compile(rf"\b(?:{_GREEK})(?:_\{{|_[A-Za-z0-9]{{1,2}}\b|_inf\b|"
+                                         r"\^\d)")),
     ("TeX subscript", re.compile(r"\b[A-Za-z]_\{[^}\s]{1,12}\}")),
     ("transpose", re.compile(r"\b[A-Za-z]\^T\b")),
     ("sqrt", re.compile(r"\bsqrt\(")),
@@ -1019,9 +1021,11 @@ class _Reading(HTMLParser):
 
 
 def is_chapter(rel: str) -> bool:
-    """A chapter page of the book (``book/<part>/<chapter>.html``, not a part's index)."""
+    """A chapter page of the book (``book/<part>/<chapter>.html``, not a part's index nor
+    the API reference's module pages)."""
     parts = rel.split("/")
-    return len(parts) == 3 and parts[0] == "book" and parts[2] != "index.html"
+    return (len(parts) == 3 and parts[0] == "book" and parts[1] != "api"
+            and parts[2] != "index.html")
 
 
 def read_page(text: str) -> _Reading:

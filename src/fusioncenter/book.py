@@ -363,6 +363,16 @@ def md_table(header, rows):
 @_doc(returns=("str", "The lines of the table joined by newlines."))
 def markdown_table(header, rows) -> str:
     """The Markdown source of the table that :func:`md_table` displays."""
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    lines = ["| " + " | ".join(_cell(c) for c in header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows]
     return "\n".join(lines)
+
+
+def _cell(value) -> str:
+    """A table cell's text with its ``|`` kept out of the table's syntax: ``\\vert`` inside
+    ``$...$`` mathematics (``$|z|$``), an escaped ``\\|`` elsewhere."""
+    import re
+
+    parts = re.split(r"(\$[^$]*\$)", str(value))
+    return "".join(p.replace("|", r"\vert{}") if p.startswith("$") and p.endswith("$")
+                   and len(p) > 1 else p.replace("|", r"\|") for p in parts)

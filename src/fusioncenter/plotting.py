@@ -345,7 +345,7 @@ def errorband(ax, x, mean, stderr, *, z: float = 1.96, label: str | None = None,
 
 
 #: A panel's letter at the start of its title: "(a) position".
-PANEL_LETTER = re.compile(r"\(([a-z])\)(\s|$)")
+_PANEL_LETTER = re.compile(r"\(([a-z])\)(\s|$)")
 
 
 def panel_heading(ax) -> tuple[str, object]:
@@ -394,7 +394,7 @@ def letter_panels(fig):
     if len(panels) < 2:
         return fig
     headings = [panel_heading(ax) for ax in panels]
-    letters = [m[1] if (m := PANEL_LETTER.match(h)) else None for h, _ in headings]
+    letters = [m[1] if (m := _PANEL_LETTER.match(h)) else None for h, _ in headings]
     if all(letters):
         if len(set(letters)) < len(letters):
             raise ValueError(f"panels share a letter: {letters}")

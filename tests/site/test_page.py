@@ -323,7 +323,7 @@ def test_plain_output_is_not_flagged(text):
 
 @pytest.mark.parametrize("text", [
     "x_hat_{k|k-1} is the prediction", "P_hat", "the noise sigma_v", "sigma^2 of it",
-    "h^T P h", "sqrt(r) times", "uses x_{k|k-1}",
+    "h^T P h", "sqrt(r) times", "uses x_{k|k-1}", "P_inf - sigma_w2", "zeta_inf = 3.3",
 ])
 def test_ascii_math_is_found(text):
     assert bc.find_ascii_math(text), text
@@ -331,7 +331,7 @@ def test_ascii_math_is_found(text):
 
 @pytest.mark.parametrize("text", [
     "x̂ₖ|ₖ₋₁ is the prediction", "P̂", "the noise σᵥ", "hᵀ P h", "√r times",
-    "the sigma points", "a hat trick",
+    "the sigma points", "a hat trick", "delta_for_rate(0.5, 1, √800)",
 ])
 def test_unicode_math_is_not_flagged(text):
     assert not bc.find_ascii_math(text), text
@@ -359,6 +359,7 @@ def test_reading_checks_only_chapter_pages():
     assert bc.is_chapter("book/mo2015/trigger.html")
     assert not bc.is_chapter("book/mo2015/index.html")
     assert not bc.is_chapter("book/api.html") and not bc.is_chapter("index.html")
+    assert not bc.is_chapter("book/api/event.html")
 
 
 def test_the_chapter_pages_read_as_a_book(site: Path) -> None:
