@@ -75,3 +75,9 @@ def test_a_pipe_in_a_table_cell_keeps_the_columns():
     text = markdown_table(["what", "largest $|z|$"], [["a | b", "$|x| \\le 1$"]])
     assert text.splitlines()[0] == r"| what | largest $\vert{}z\vert{}$ |"
     assert text.splitlines()[2] == r"| a \| b | $\vert{}x\vert{} \le 1$ |"
+
+
+def test_an_escaped_pipe_stays_escaped_once():
+    from fusioncenter.book import markdown_table
+
+    assert markdown_table(["a"], [[r"P\|0 and x | y"]]).splitlines()[2] == r"| P\|0 and x \| y |"

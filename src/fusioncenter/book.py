@@ -370,9 +370,10 @@ def markdown_table(header, rows) -> str:
 
 def _cell(value) -> str:
     """A table cell's text with its ``|`` kept out of the table's syntax: ``\\vert`` inside
-    ``$...$`` mathematics (``$|z|$``), an escaped ``\\|`` elsewhere."""
+    ``$...$`` mathematics (``$|z|$``), an escaped ``\\|`` elsewhere (one already escaped is
+    kept)."""
     import re
 
     parts = re.split(r"(\$[^$]*\$)", str(value))
     return "".join(p.replace("|", r"\vert{}") if p.startswith("$") and p.endswith("$")
-                   and len(p) > 1 else p.replace("|", r"\|") for p in parts)
+                   and len(p) > 1 else re.sub(r"(?<!\\)\|", r"\\|", p) for p in parts)
