@@ -1,4 +1,5 @@
-"""A notebook cell that raises must fail the book build; a passing one must not.
+"""A notebook cell that raises must fail the book build; a passing one must not; a chapter's
+own figure (``fusioncenter.book.figure`` and ``{book-figure}``) is a numbered, captioned figure.
 
 Builds two one-page fixture books (tests/fixtures/{failing,passing}_book: execute_notebooks:
 force, raise_on_error: true) with the same strict flags as ``tools/build_book.py --strict``.
@@ -6,6 +7,7 @@ force, raise_on_error: true) with the same strict flags as ``tools/build_book.py
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -39,3 +41,21 @@ def test_passing_cell_builds(tmp_path: Path) -> None:
     index = tmp_path / "_build" / "html" / "index.html"
     assert index.is_file(), f"no {index}:\n{output[-3000:]}"
     assert "Passing fixture" in index.read_text(encoding="utf-8")
+
+
+def test_the_figure_is_numbered_captioned_and_described(tmp_path: Path) -> None:
+    result = build("figure_book", tmp_path)
+    assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
+    page = (tmp_path / "_build" / "html" / "index.html").read_text(encoding="utf-8")
+    m = re.search(r'<figure class="[^"]*fc-book-figure[^"]*" id="fig-fixture-curves">(.*?)'
+                  r"</figure>", page, re.S)
+    assert m, "no book figure in the page"
+    fig = m[1]
+    assert '<span class="caption-number">Fig. 1 </span>' in fig
+    assert "the square, (b) the root" in fig
+    assert "A second paragraph of the legend." in fig
+    alt = re.search(r'<img alt="([^"]*)"', fig)[1]
+    assert alt.startswith("2-panel figure.") and "root of x (units) against x (units)" in alt
+    assert 'data-panels="2"' in fig and 'data-columns="1"' in fig
+    assert re.search(r"figure#fig-fixture-curves img \{ min-width: \d+px; \}", fig)
+    assert re.search(r'href="#fig-fixture-curves"><span class="std std-numref">Fig\. 1', page)

@@ -34,7 +34,8 @@ VERSIONS = ["3.12", "3.13"]
 # tests of the repository (its source tree, tools and structure) and of the book (Jupyter Book,
 # jupytext, nbval, the built site)
 NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "test_api_page.py",
-               "test_interrupts.py", "test_structure.py",
+               "test_interrupts.py", "test_structure.py", "test_registry_caption.py",
+               "test_registry_texts.py",
                "test_student_path.py", "test_run_tests.py", "test_build_book_serve.py",
                "test_nbval_executed.py", "test_kernel_fork.py", "golden",
                "site"]
