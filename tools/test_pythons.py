@@ -35,7 +35,7 @@ VERSIONS = ["3.12", "3.13"]
 # jupytext, nbval, the built site)
 NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "test_api_page.py",
                "test_interrupts.py", "test_structure.py", "test_registry_caption.py",
-               "test_registry_texts.py",
+               "test_registry_texts.py", "test_errata_page.py",
                "test_student_path.py", "test_run_tests.py", "test_build_book_serve.py",
                "test_nbval_executed.py", "test_kernel_fork.py", "golden",
                "site"]
