@@ -4,7 +4,8 @@ Every entry carries a stable label ``(erratum-<paper>-<slug>)=``; the errata (E)
 slips (N) are numbered in page order, the errata grouped by paper in the order of the papers;
 every erratum's evidence is either an executable check in a chapter, with a test marked
 ``@erratum(label)`` that sees the check reject the printed form
-(``tests/test_errata_printed_*.py``), or says "by reading"; and every such mark names an entry that exists.
+(``tests/test_errata_printed_*.py``), or says "by reading"; and every such mark names an entry
+that exists.
 """
 
 from __future__ import annotations
