@@ -31,7 +31,8 @@ def symmetric_asymptotics(access, scaling, a, sigma_w2, h, c, sigma_v2, sigma_n2
     * multi-access, none:  Lemma 3 / (11): ``(sigma_w2, a^2 sigma_v2 / c^2)``
     * orthogonal, none:    (12):           ``(sigma_w2, a^2 (sigma_v2 + sigma_n2/h^2) / c^2)``
     * multi-access, sqrt:  (13):           the same as (12)
-    * orthogonal, sqrt:    (14): the limit exceeds ``sigma_w2`` (no 1/M law to ``sigma_w2``).
+    * orthogonal, sqrt:    (14): the limit is at least ``sigma_w2`` (equal only when a = 0 or
+      sigma_n2 = 0; no 1/M law to ``sigma_w2``).
     """
     access = check_access(access)
     if scaling not in ("none", "sqrt"):

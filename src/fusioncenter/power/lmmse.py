@@ -64,12 +64,14 @@ def lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, 
 
     ``alpha_t`` complex amplification factors, ``h_mean`` the complex channel means and
     ``h_var_re``, ``h_var_im`` the variances of their real and imaginary parts (independent,
-    i.i.d. over time). The observation is ``(Re z~, Im z~)``: multi-access gives ``Cbar`` shaped
-    ``(..., 2)`` and ``Rbar`` ``(..., 2, 2)``; orthogonal stacks the sensors, ``Cbar`` ``(...,
-    2M)`` and block-diagonal ``Rbar`` ``(..., 2M, 2M)``. ``Rbar`` includes the covariance
-    ``Cov(Re g, Im g) (c_i^2 sigma_w2/(1-a^2) + sigma_v2_i)`` of the off-diagonal term, which
-    the printed ``Rbar`` omits; it vanishes when ``Var Re h~ = Var Im h~`` (as in the paper's
-    Rician example) or ``alpha~`` is real or imaginary.
+    i.i.d. over time, and independent across sensors: ``Rbar`` is a sum over the sensors and has
+    no cross-sensor terms, an assumption the paper uses before (32) without stating it). The
+    observation is ``(Re z~, Im z~)``: multi-access gives ``Cbar`` shaped ``(..., 2)`` and
+    ``Rbar`` ``(..., 2, 2)``; orthogonal stacks the sensors, ``Cbar`` ``(..., 2M)`` and
+    block-diagonal ``Rbar`` ``(..., 2M, 2M)``. ``Rbar`` includes the covariance ``Cov(Re g, Im
+    g) (c_i^2 sigma_w2/(1-a^2) + sigma_v2_i)`` of the off-diagonal term, which the printed
+    ``Rbar`` omits; it vanishes when ``Var Re h~ = Var Im h~`` (as in the paper's Rician
+    example) or ``alpha~`` is real or imaginary.
     """
     access = check_access(access)
     s = check_sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
