@@ -74,7 +74,7 @@ def test_remark2_likelihood_is_exact_for_the_broadcast_covariance():
     accuracy, and not (14) with the true innovation variance."""
     sc = cs.LinearScenario()
     r, h = 1.0, sc.H[0]
-    s_true = float(sc.local_filters()["s"][-1, 0])  # r + h^T P h in steady state (about 4.1)
+    s_true = float(sc.local_filters()["s"][-1, 0])  # r + h^T P h in steady state (about 6.85)
     s_broadcast = 3.0  # an inaccurate empirical estimate, as the PF's can be
     rng = np.random.default_rng(28)
     n = 400_000
