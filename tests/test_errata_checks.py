@@ -1,4 +1,5 @@
-"""Executable checks of the errata found on a second reading (book/errata.md, last section).
+"""Executable checks of errata found on a second reading (now in their papers' sections of
+book/errata.md).
 
 Each test is cited from a row of the errata page. They re-derive a printed formula against the
 model it claims to follow: a Kalman step, a quadrature, or a Monte Carlo simulation.
