@@ -1,4 +1,5 @@
-"""Executable checks of the errata found on a second reading (book/errata.md, last section).
+"""Executable checks of errata found on a second reading (now in their papers' sections of
+book/errata.md).
 
 Each test is cited from a row of the errata page. They re-derive a printed formula against the
 model it claims to follow: a Kalman step, a quadrature, or a Monte Carlo simulation.
@@ -41,16 +42,24 @@ def test_dey2009_orthogonal_recursion_needs_each_channels_noise():
 def test_dey2009_first_expectation_of_3_3_2_with_sigma_n1():
     """E_{r_1}[(r_1 s_1 + n_1) / ((r_1 s_1 + n_1) D + r_1 c_1^2 g)] = s_1 / (s_1 D + c_1^2 g)
     [1 + (A_1 - B_1) e^{B_1} E_1(B_1)] with A_1 = lam_1 n_1 / s_1, B_1 = lam_1 n_1 D / (s_1 D +
-    c_1^2 g): the constants carry sensor 1's channel noise n_1 = sigma_{n_1}^2."""
-    lam, s1, n1, c1, g = 1.7, 0.8, 2.5, 1.3, 3.0
-    for D in (1.0, 2.4):
+    c_1^2 g): the constants carry sensor 1's channel noise n_1 = sigma_{n_1}^2. The identity
+    itself holds for any n_1, so the test also takes the constants with the other channel's
+    noise n_2 (what one sigma_n^2 for every channel amounts to when the noises differ) and
+    sees them miss the quadrature."""
+    lam, s1, n1, n2, c1, g = 1.7, 0.8, 2.5, 0.05, 1.3, 3.0
+    for D in (1.0, 2.4):  # D = 1 + g * (information of the other sensors)
         quad = scipy.integrate.quad(
             lambda r, D=D: lam * np.exp(-lam * r) * (r * s1 + n1) / ((r * s1 + n1) * D
                                                                + r * c1**2 * g),
             0, np.inf, epsabs=0, epsrel=1e-12)[0]
-        A1, B1 = lam * n1 / s1, lam * n1 * D / (s1 * D + c1**2 * g)
-        closed = s1 / (s1 * D + c1**2 * g) * (1 + (A1 - B1) * np.exp(B1) * scipy.special.exp1(B1))
-        assert quad == pytest.approx(closed, rel=1e-10)
+
+        def closed(noise, D=D):
+            A1, B1 = lam * noise / s1, lam * noise * D / (s1 * D + c1**2 * g)
+            return s1 / (s1 * D + c1**2 * g) * (1 + (A1 - B1) * np.exp(B1)
+                                                 * scipy.special.exp1(B1))
+
+        assert quad == pytest.approx(closed(n1), rel=1e-10)
+        assert abs(closed(n2) / quad - 1) > 0.05
 
 
 def test_dey2009_printed_orthogonal_bound_with_a_common_noise_can_fail():
@@ -69,8 +78,10 @@ def test_dey2009_printed_orthogonal_bound_with_a_common_noise_can_fail():
 
 
 def test_dey2009_riccati_10_and_11_agree():
-    """(11) with L_k = H_k Sigma_n^{-1} H_k is (10) rewritten (H_k invertible): the check behind
-    the notation row on the channel history after (9) and (12)."""
+    """(11) with L_k = H_k Sigma_n^{-1} H_k is (10) rewritten (H_k invertible). The paper is right
+    here: this is a check of the paper, no erratum's evidence (the notation slip in the channel
+    history after (9) and (12) is found by reading). It can fail: with L_k = H_k Sigma_n H_k
+    (Sigma_n not inverted) the two recursions differ."""
     rng = np.random.default_rng(2)
     n, m = 3, 2
     A = rng.standard_normal((n, n))
@@ -86,6 +97,10 @@ def test_dey2009_riccati_10_and_11_agree():
         eleven = A @ (P - P @ C.T @ np.linalg.solve(np.linalg.inv(L) + C @ P @ C.T + Sv, C @ P)) \
             @ A.T + Sw
         np.testing.assert_allclose(ten, eleven, rtol=1e-10, atol=1e-12)
+        L_wrong = H @ Sn @ H
+        wrong = A @ (P - P @ C.T @ np.linalg.solve(np.linalg.inv(L_wrong) + C @ P @ C.T + Sv,
+                                                   C @ P)) @ A.T + Sw
+        assert np.max(np.abs(wrong - ten)) > 1e-5 * np.max(np.abs(ten))  # agreement: 1e-10
 
 
 # ================================================================= mo2015, Section 2, m sensors
