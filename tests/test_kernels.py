@@ -233,3 +233,77 @@ def test_sum_sensors_kernel_is_bitwise_numpy(N, P):
     out = np.empty((3, P))
     _kernels.sum_sensors(amp, out)
     np.testing.assert_array_equal(out, amp.sum(axis=1))
+
+
+@pytest.mark.parametrize("kind", ["lognormal", "sparse", "one", "equal"])
+@pytest.mark.parametrize("P", [1, 2, 7, 1000])
+def test_fused_resampling_is_the_ancestors_then_the_gather(kind, P):
+    """``resample_rows`` (the loop's fused resampling) gives bit for bit what
+    ``systematic_ancestors`` then ``take_rows`` give, rows not to resample copied."""
+    rng = np.random.default_rng(P + 11)
+    m = 9
+    w = _weights(kind, m, P, rng)
+    S = np.array([np.cumsum(row)[-1] for row in w])
+    u = rng.random(m)
+    u[0] = 0.0
+    todo = rng.random(m) < 0.7
+    todo[:2] = True, False
+    anc = np.empty((m, P), dtype=np.intp)
+    _kernels.systematic_ancestors(w, S, u, todo, anc)
+    for d in (1, 2, 5):  # the d = 2 case is written out in the kernel
+        x = rng.standard_normal((m, P, d))
+        for layout in (x, particle.by_component(x)):
+            want = np.empty_like(layout)
+            _kernels.take_rows(layout, anc, want)
+            got = np.full_like(layout, np.nan)
+            _kernels.resample_rows(w, S, u, todo, layout, got)
+            assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("add", [False, True])
+def test_gauss_terms_kernel_is_bitwise_numpy(add):
+    rng = np.random.default_rng(12)
+    m, P = 7, 300
+    y = particle.by_component(1e3 * rng.standard_normal((m, P, 2)))[..., 0]  # strided rows
+    zbar = rng.standard_normal(m)
+    coef = -0.5 / 0.7 * rng.integers(0, 4, m)  # including rows with no sensor received (0)
+    base = rng.standard_normal((m, P))
+    want = np.subtract(y, zbar[:, None])
+    np.square(want, out=want)
+    want *= coef[:, None]
+    if add:
+        want = base + want
+    got = base.copy()
+    _kernels.gauss_terms(y, zbar, coef, got, add)
+    assert np.array_equal(got, want)
+
+
+def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
+    """``LogTable.shifted_add`` (CFwMD's silent factor in the loop) against the NumPy steps it
+    replaces: the table at every point (``shifted``), rows without a silent sensor zeroed, the
+    product by the number of silent sensors, the sum; with points beyond the table (exact
+    function) in some rows."""
+    from fusioncenter.censoring.tables import silent_table
+
+    rng = np.random.default_rng(13)
+    m, P = 8, 400
+    table = silent_table(1.3)
+    y = 3.0 * rng.standard_normal((m, P))
+    y[2, 5] = 80.0  # beyond the table (|x| >= 48): evaluated exactly
+    y[5, 0] = -1e3
+    hp = rng.standard_normal(m)
+    ns = np.array([1, 0, 2, 1, 3, 2, 0, 1])
+    base = rng.standard_normal((m, P))
+    val = table.shifted(y, hp, 0.9, np.empty((m, P)))
+    assert np.isfinite(val).all()
+    val[ns == 0] = 0.0
+    val *= ns[:, None]
+    want = base + val
+    got = base.copy()
+    table.shifted_add(y, hp, 0.9, ns, got, np.empty((m, P)))
+    assert np.array_equal(got, want)
+    # the far rows went through the exact path: the kernel alone reports them
+    rows = np.empty(m, dtype=np.intp)
+    k = _kernels.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
+                                   base.copy(), rows)
+    assert rows[:k].tolist() == [2, 5]

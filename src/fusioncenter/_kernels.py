@@ -32,7 +32,7 @@ from numba.extending import intrinsic
 __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "linear_transition", "power_table", "propagate_wna", "received_terms",
            "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments"]
+           "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -119,6 +119,70 @@ def systematic_ancestors(w, S, u, todo, anc):
         for k in range(P):
             a = max(a, anc[b, k])
             anc[b, k] = a
+
+
+@numba.njit(cache=True, nogil=True)
+def resample_rows(w, S, u, todo, src, dst):
+    """Systematic resampling fused with the gather: for every row ``b`` with ``todo[b]``,
+    ``dst[b, k, :] = src[b, a_k, :]`` with the ancestors ``a_k`` of
+    :func:`systematic_ancestors`, computed the same way (the same arithmetic, so the same
+    integers) into a scratch row that stays in the cache; its running maximum and the gather are
+    one pass. The other rows are copied. ``S[b]`` must be the row's sequential sum, as
+    :func:`weighted_moments` computes it."""
+    m, P = w.shape
+    d = src.shape[2]
+    anc = np.empty(P, dtype=np.intp)
+    for b in range(m):
+        if not todo[b]:
+            for k in range(P):
+                for j in range(d):
+                    dst[b, k, j] = src[b, k, j]
+            continue
+        for k in range(P):
+            anc[k] = 0
+        total = S[b]
+        ub = u[b]
+        c = 0.0
+        lo = 0
+        for i in range(P - 1):
+            c += w[b, i]
+            if lo < P:
+                anc[lo] = i
+            lo = int(math.ceil(c / total * P - ub))
+        if lo < P:
+            anc[lo] = P - 1
+        a = 0
+        if d == 2:
+            for k in range(P):
+                a = max(a, anc[k])
+                dst[b, k, 0] = src[b, a, 0]
+                dst[b, k, 1] = src[b, a, 1]
+        else:
+            for k in range(P):
+                a = max(a, anc[k])
+                for j in range(d):
+                    dst[b, k, j] = src[b, a, j]
+
+
+@numba.njit(cache=True, nogil=True)
+def gauss_terms(y, zbar, coef, out, add):
+    """The received sensors' Gaussian log-likelihood of a group, per row ``b``: ``e = (y[b, i] -
+    zbar[b])^2 * coef[b]`` (subtract, square, multiply, in this order: the NumPy arithmetic of
+    ``censoring.fusion``), written to ``out[b, i]`` or, if ``add``, added to it. One pass."""
+    m, P = y.shape
+    for b in range(m):
+        zb = zbar[b]
+        c = coef[b]
+        if add:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = out[b, i] + e * c
+        else:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = e * c
 
 
 @numba.njit(cache=True, nogil=True)
@@ -363,6 +427,54 @@ def table_shifted(coef, n_int, y, shift, scale, out):
             if acc != acc:
                 n_far += 1
             out[b, i] = acc
+    return n_far
+
+
+@numba.njit(cache=True, nogil=True)
+def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
+    """``out[b, i] += ns[b] f(|y[b, i] - shift[b]| * scale)`` (``f`` the table of
+    :func:`table_shifted`, ``+ 0.0`` where ``ns[b] = 0``, no product where ``ns[b] = 1``),
+    row by row: the arithmetic, in its order, of :func:`table_shifted`, then zeroing the rows
+    without a silent sensor, the product by ``ns`` and the addition. A row with a point beyond
+    the table (or on an interval with a non-finite node) is left unchanged and its index is
+    stored in ``far_rows``; returns how many such rows (the caller evaluates them exactly)."""
+    m, P = y.shape
+    deg = coef.shape[1]
+    val = np.empty(P)
+    n_far = 0
+    for b in range(m):
+        nsb = ns[b]
+        if nsb == 0:
+            for i in range(P):
+                out[b, i] = out[b, i] + 0.0
+            continue
+        sh = shift[b]
+        far = False
+        for i in range(P):
+            t = abs(y[b, i] - sh) * scale
+            if not t < n_int:
+                far = True
+                break
+            j = int(t)
+            t -= j
+            acc = coef[j, 0] * t + coef[j, 1]
+            for q in range(2, deg):
+                acc = acc * t + coef[j, q]
+            if acc != acc:
+                far = True
+                break
+            val[i] = acc
+        if far:
+            far_rows[n_far] = b
+            n_far += 1
+            continue
+        if nsb == 1:
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i]
+        else:
+            c = np.float64(nsb)
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i] * c
     return n_far
 
 

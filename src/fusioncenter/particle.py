@@ -443,9 +443,10 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
 
     The hot pieces are compiled (:mod:`fusioncenter._kernels`): after subtracting each trial's
     maximum log weight and exponentiating, one pass per trial gives the weight sum, the weighted
-    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more the
-    systematic-resampling ancestors (:func:`fusioncenter._kernels.systematic_ancestors`) and the
-    gather (:func:`fusioncenter._kernels.take_rows`). Everything is row by row: a trial's result
+    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more systematic
+    resampling fused with the gather (:func:`fusioncenter._kernels.resample_rows`: the
+    ancestors of :func:`fusioncenter._kernels.systematic_ancestors`, without storing them).
+    Everything is row by row: a trial's result
     does not depend on the other trials of the batch. A trial whose weights are all zero (no
     particle compatible with the data) keeps uniform weights for that step and is flagged in
     :attr:`FilterOutput.collapsed`.
@@ -498,7 +499,6 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
     offset = np.full(n, math.log(P))
     S, ess_b = np.empty(n), np.empty(n)
     mean = np.empty((n, d))
-    anc = np.empty((n, P), dtype=np.intp)
     spare = np.empty_like(x)  # the same memory layout as x (see by_component)
     all_rows = np.ones(n, dtype=bool)
     for t in range(1, steps + 1):
@@ -544,7 +544,6 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
             with np.errstate(divide="ignore"):
                 carried = np.where(todo[:, None], 0.0, np.log(w / S[:, None]))
             offset = np.where(todo, math.log(P), 0.0)
-        _kernels.systematic_ancestors(w, S, u, todo, anc)
-        _kernels.take_rows(x, anc, spare)
+        _kernels.resample_rows(w, S, u, todo, x, spare)
         x, spare = spare, x
     return FilterOutput(mean=means, cov=covs, ess=esss, log_evidence=log_ev, collapsed=collapsed)

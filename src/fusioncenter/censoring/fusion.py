@@ -386,12 +386,8 @@ class LinearFusionCentre:
                 # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
                 # a constant per trial (centred: no cancellation however large the positions)
                 zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
-                dst = tmp if started else lw
-                np.subtract(y, zbar[:, None], out=dst)
-                np.square(dst, out=dst)
-                dst *= (-0.5 / rg * n_obs)[:, None]
-                if started:
-                    lw += tmp
+                # (y - zbar)^2 (-n / (2 r)), written or added in one compiled pass
+                _kernels.gauss_terms(y, zbar, -0.5 / rg * n_obs, lw, started)
                 started = True
             silent = silent_rows(self, g, n_obs)
             if silent is None:
@@ -408,12 +404,16 @@ class LinearFusionCentre:
                 hh = np.sqrt(self.eta * s[rows if not every else slice(None), g[0]]) / sd
                 with np.errstate(invalid="ignore"):
                     val = log_prob_inside(mu, hh[:, None])
-            else:
+            elif every:  # one compiled pass: the table, the product by ns and the sum
+                if not started:
+                    lw.fill(0.0)
+                    started = True
+                silent_table(math.sqrt(self.eta * s[g[0]]) / sd).shifted_add(
+                    y, hp, 1.0 / sd, n_sil, lw, tmp)
+                continue
+            else:  # the same arithmetic on the rows that need it
                 table = silent_table(math.sqrt(self.eta * s[g[0]]) / sd)
-                if every:
-                    val = table.shifted(y, hp, 1.0 / sd, tmp)
-                else:  # the same arithmetic on the rows that need it
-                    val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
+                val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
             ns = n_sil if every else n_sil[rows]
             if every and not ns.all():
                 val[ns == 0] = 0.0
