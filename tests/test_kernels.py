@@ -307,3 +307,63 @@ def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
     k = _kernels.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
                                    base.copy(), rows)
     assert rows[:k].tolist() == [2, 5]
+
+
+def _inline_tables():
+    import platform
+    import sys
+
+    from fusioncenter import _ziggurat
+
+    zig = _ziggurat.tables()
+    if zig is None and not (sys.platform == "linux" and platform.machine() == "x86_64"):
+        # another platform: the loop draws through NumPy (same numbers, slower)
+        pytest.skip("NumPy's ziggurat tables are not readable here")
+    # on the project's machines (Linux x86-64, NumPy's wheel) they must be found and pass
+    # the check of _ziggurat.tables (inline draws equal to standard_normal)
+    assert zig is not None
+    return zig
+
+
+@pytest.mark.parametrize("seed", [0, 2014])
+def test_inline_normals_are_numpys_bit_for_bit(seed):
+    """The kernels' SFC64 + ziggurat draws are ``standard_normal``'s numbers, and leave the
+    stream where NumPy leaves it; the draws include the tail and the wedges."""
+    from fusioncenter import _ziggurat
+
+    zig = _inline_tables()
+    rng = np.random.Generator(np.random.SFC64(seed))
+    s = _ziggurat.draw_state(rng)
+    n = 400_000
+    got = np.empty(n)
+    _kernels.sfc64_normals(s, *zig, got)
+    want = rng.standard_normal(n)
+    assert np.array_equal(got, want)
+    assert np.array_equal(s, _ziggurat.draw_state(rng))
+    assert np.sum(np.abs(want) > zig[3]) > 20  # the tail was drawn
+    assert s[3] - np.uint64(_ziggurat.draw_state(
+        np.random.Generator(np.random.SFC64(seed)))[3]) > n  # so were rejections
+
+
+def test_inline_draws_in_the_filter_change_no_bit(monkeypatch):
+    """The linear FC's transition with the normals drawn inside the pass against the same
+    filter drawing them through NumPy: the same estimates and the same generator state."""
+    from fusioncenter import _ziggurat
+    from fusioncenter import censoring as cs
+    from fusioncenter.censoring.fusion import LinearFusionCentre
+
+    _inline_tables()
+    sc = cs.LinearScenario()
+    z = sc.sample(np.random.default_rng(5), 6)[1]
+    sel = np.random.default_rng(6).random(z.shape)
+    outs = []
+    for inline in (True, False):
+        if not inline:
+            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+        rng = np.random.Generator(np.random.SFC64(7))
+        fc = LinearFusionCentre(sc, "cfwmd", "state", "corrected", cs.threshold(1.0, 2), 1.0,
+                                z, sel)
+        out = particle.run_filter(fc, rng, 6, 300, sc.T)
+        outs.append((out.mean, out.ess, out.log_evidence, fc.sent, rng.random(3)))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)

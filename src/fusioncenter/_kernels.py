@@ -32,7 +32,8 @@ from numba.extending import intrinsic
 __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "linear_transition", "power_table", "propagate_wna", "received_terms",
            "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add"]
+           "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add",
+           "sfc64_normals", "propagate_wna_draw"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -337,6 +338,108 @@ def propagate_wna(x, dt, g, L):
             p = p + v * dt
             for j in range(k):
                 gj = g[b, i, j]
+                p = p + gj * L[0, j]
+                v = v + gj * L[1, j]
+            x[b, i, 0] = p
+            x[b, i, 1] = v
+
+
+# ----------------------------------------------------------------------------- inline normals
+_U1 = np.uint64(1)
+_U3 = np.uint64(3)
+_U8 = np.uint64(8)
+_U11 = np.uint64(11)
+_U24 = np.uint64(24)
+_U40 = np.uint64(40)
+_M8 = np.uint64(0xFF)
+_M52 = np.uint64(0xFFFFFFFFFFFFF)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_next(s):
+    """The next 64-bit output of the SFC64 state ``s (4,) uint64`` (NumPy's algorithm)."""
+    out = s[0] + s[1] + s[3]
+    s[3] = s[3] + _U1
+    s[0] = s[1] ^ (s[1] >> _U11)
+    s[1] = s[2] + (s[2] << _U3)
+    s[2] = ((s[2] << _U24) | (s[2] >> _U40)) + out
+    return out
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_double(s):
+    """A uniform in ``[0, 1)`` from the top 53 bits (NumPy's ``next_double``)."""
+    return np.float64(_sfc64_next(s) >> _U11) * (1.0 / 9007199254740992.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal_rare(s, idx, rabs, x, fi, r, inv_r):
+    """The ziggurat's rare branches (about 1 % of the draws), after the layer test failed for
+    the 64-bit output that gave ``idx``, ``rabs`` and ``x``: the tail (layer 0) or the wedge
+    test. Returns ``(accepted, value)``; not accepted: the caller draws again."""
+    if idx == 0:
+        while True:
+            xx = -inv_r * math.log1p(-_sfc64_double(s))
+            yy = -math.log1p(-_sfc64_double(s))
+            if yy + yy > xx * xx:
+                return True, (-(r + xx) if (rabs >> _U8) & _U1 else r + xx)
+    if (fi[idx - 1] - fi[idx]) * _sfc64_double(s) + fi[idx] < math.exp(-0.5 * x * x):
+        return True, x
+    return False, 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def sfc64_normals(s, ki, wi, fi, r, inv_r, out):
+    """Fill ``out`` (flat order) with standard normals from the SFC64 state ``s (4,) uint64``:
+    NumPy's 256-layer ziggurat with its tables ``ki, wi, fi`` and tail constants
+    (:func:`fusioncenter._ziggurat.tables`), so NumPy's ``standard_normal`` numbers. (The
+    common branch is written out in each kernel that draws: calling a compiled function with
+    the table arrays for every draw costs more than the draw.)"""
+    o = out.reshape(-1)
+    for n in range(o.shape[0]):
+        while True:
+            u = _sfc64_next(s)
+            idx = np.intp(u & _M8)
+            u = u >> _U8
+            rabs = (u >> _U1) & _M52
+            x = np.float64(rabs) * wi[idx]
+            if u & _U1:
+                x = -x
+            if rabs < ki[idx]:
+                break
+            ok, x = _normal_rare(s, idx, rabs, x, fi, r, inv_r)
+            if ok:
+                break
+        o[n] = x
+
+
+@numba.njit(cache=True, nogil=True)
+def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
+    """:func:`propagate_wna` with the normals ``g[b, i, j]`` drawn inline (as
+    :func:`sfc64_normals`) from the SFC64 state ``s`` in the order ``standard_normal(out=g)``
+    fills ``g (m, P, k)`` (row-major): the same numbers, the same arithmetic, without the array
+    of normals."""
+    m, P = x.shape[0], x.shape[1]
+    k = L.shape[1]
+    for b in range(m):
+        for i in range(P):
+            p = x[b, i, 0]
+            v = x[b, i, 1]
+            p = p + v * dt
+            for j in range(k):
+                while True:
+                    u = _sfc64_next(s)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gj = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gj = -gj
+                    if rabs < ki[idx]:
+                        break
+                    ok, gj = _normal_rare(s, idx, rabs, gj, fi, r, inv_r)
+                    if ok:
+                        break
                 p = p + gj * L[0, j]
                 v = v + gj * L[1, j]
             x[b, i, 0] = p

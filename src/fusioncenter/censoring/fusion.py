@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, particle
+from fusioncenter import _kernels, _ziggurat, particle
 from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
 from fusioncenter.censoring.probability import (
     log_prob_inside,
@@ -483,6 +483,12 @@ class LinearFusionCentre:
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
         """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``."""
         shape = (*x.shape[:2], self.LQ.shape[1])
+        zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
+        if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
+            st = _ziggurat.draw_state(rng)
+            _kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            _ziggurat.set_state(rng, st)
+            return x
         if self._g.shape != shape:
             self._g = np.empty(shape)
         if shape[2]:
