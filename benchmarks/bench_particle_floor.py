@@ -11,7 +11,9 @@ particle-step, with the ratios of the medians):
 * ``ours all-send`` and ``ours CFwMD`` (state feedback): a
   :class:`~fusioncenter.censoring.fusion.LinearFusionCentre` built and run through
   :func:`fusioncenter.particle.run_filter`, as ``censoring.run``'s ``_chunk`` does for one
-  sub-block (the truth and measurements are drawn beforehand, outside the timing);
+  sub-block (the truth and measurements are drawn beforehand, outside the timing); its
+  transition draws NumPy's normals inside the propagation pass when
+  :func:`fusioncenter._ziggurat.tables` is available (the run says whether);
 * ``reference, NumPy draws``: all-send written by hand as one compiled pass per step and trial
   (:func:`_ref_block`: propagate, the sensors' Gaussian log-likelihood and its maximum; then
   ``exp``, the weight sum, the weighted means and the ESS; then systematic resampling fused
@@ -20,10 +22,11 @@ particle-step, with the ratios of the medians):
   random numbers are NumPy's bit for bit;
 * ``reference, in-kernel draws``: the same kernel drawing its normals and uniforms inside the
   compiled pass: SFC64 (NumPy's algorithm, started from the same state) and a 256-layer
-  ziggurat laid out as NumPy's, with tables computed here in double precision (NumPy's were
-  generated at higher precision and differ in their last bits, so the normals are NOT NumPy's
-  bit for bit: the run prints the fraction that are), trial by trial (so in another order than
-  ours: statistically equivalent, not the same numbers). The practical floor.
+  ziggurat laid out as NumPy's, with NumPy's own tables when
+  :func:`fusioncenter._ziggurat.tables` can read them (then its normals are NumPy's bit for
+  bit; otherwise tables computed here in double precision, whose last bits differ from
+  NumPy's: the run prints the fraction of equal draws), trial by trial (so in another order
+  than ours: statistically equivalent, not the same numbers). The practical floor.
 
 Checks before timing (the run prints them): on 256 trials, the position and velocity RMSE of
 each variant against the truth and the RMS distance of its estimate to the exact Kalman filter
@@ -53,8 +56,8 @@ import numpy as np  # noqa: E402
 from numba import types  # noqa: E402
 from numba.extending import intrinsic  # noqa: E402
 
+from fusioncenter import _ziggurat, particle  # noqa: E402
 from fusioncenter import censoring as cs  # noqa: E402
-from fusioncenter import particle  # noqa: E402
 from fusioncenter.censoring.fusion import LinearFusionCentre  # noqa: E402
 from fusioncenter.censoring.results import streams  # noqa: E402
 
@@ -148,7 +151,10 @@ def _zig_tables():
     return ki, wi, fi, r
 
 
-_KI, _WI, _FI, _ZR = _zig_tables()
+#: NumPy's own tables when the library can read them (then the in-kernel normals are NumPy's
+#: bit for bit), else the ones computed here
+_NUMPY_TABLES = _ziggurat.tables()
+_KI, _WI, _FI, _ZR = _zig_tables() if _NUMPY_TABLES is None else _NUMPY_TABLES[:4]
 _U11, _U24, _U40, _U3 = np.uint64(11), np.uint64(24), np.uint64(40), np.uint64(3)
 _U1, _U8, _MASK52, _MASK8 = np.uint64(1), np.uint64(8), np.uint64(0xFFFFFFFFFFFFF), np.uint64(255)
 
@@ -381,7 +387,10 @@ def timing(rounds: int = ROUNDS, n: int = TRIALS) -> dict[str, float]:
         print(f"  {k:<28} {v:6.1f} ns per particle-step (min {lo:5.1f}, max {hi:5.1f}); "
               f"x{v / ref:.2f} the NumPy-draws reference, "
               f"x{v / med['reference, in-kernel draws']:.2f} the in-kernel one")
-    print(f"  CFwMD / all-send (ours): x{med['ours CFwMD'] / med['ours all-send']:.2f}")
+    print(f"  CFwMD / all-send (ours): x{med['ours CFwMD'] / med['ours all-send']:.2f}; "
+          f"ours all-send / in-kernel reference: "
+          f"x{med['ours all-send'] / med['reference, in-kernel draws']:.2f}; our normals "
+          f"{'inline' if _NUMPY_TABLES is not None else 'through NumPy'}")
     return med
 
 

@@ -290,7 +290,11 @@ class LinearFusionCentre:
     feedback their decisions at step ``t`` depend on what the FC broadcast after step ``t - 1``.
     Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
 
-    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna`);
+    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna_draw`)
+      that draws NumPy's normals itself (SFC64 and NumPy's ziggurat, the same numbers in the
+      same order as ``standard_normal``; :mod:`fusioncenter._ziggurat`), or, where NumPy's
+      tables cannot be read, :func:`fusioncenter._kernels.propagate_wna` after
+      ``standard_normal``;
     * the silent factor with state feedback is the interpolation table :func:`silent_table`
       (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
       corrected Proposition 3 with one sensor received (:func:`region_table`) and, per trial,
@@ -481,7 +485,8 @@ class LinearFusionCentre:
         return particle.by_component(self.sc.dynamics.initial(rng, n, P))
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``."""
+        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``
+        (``rng.standard_normal``'s numbers, drawn inside the pass for an SFC64 ``rng``)."""
         shape = (*x.shape[:2], self.LQ.shape[1])
         zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
         if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
