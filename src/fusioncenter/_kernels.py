@@ -553,19 +553,17 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
             continue
         sh = shift[b]
         far = False
-        for i in range(P):
+        for i in range(P):  # no early exit (vectorizable); a far row's values are dropped
             t = abs(y[b, i] - sh) * scale
-            if not t < n_int:
-                far = True
-                break
+            inside = t < n_int
+            if not inside:
+                t = 0.0
             j = int(t)
             t -= j
             acc = coef[j, 0] * t + coef[j, 1]
             for q in range(2, deg):
                 acc = acc * t + coef[j, q]
-            if acc != acc:
-                far = True
-                break
+            far = far or not inside or acc != acc
             val[i] = acc
         if far:
             far_rows[n_far] = b
