@@ -367,3 +367,27 @@ def test_inline_draws_in_the_filter_change_no_bit(monkeypatch):
         outs.append((out.mean, out.ess, out.log_evidence, fc.sent, rng.random(3)))
     for a, b in zip(*outs, strict=True):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize(("d", "k"), [(2, 1), (4, 2), (3, 3)])
+def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch):
+    """``LinearGaussianDynamics.transition`` on an SFC64 stream draws its normals inside the
+    compiled pass (``linear_transition_draw``): the same values and the same stream position as
+    with ``standard_normal`` then ``linear_transition``."""
+    from fusioncenter import _ziggurat
+
+    _inline_tables()
+    rng0 = np.random.default_rng(d + k)
+    A = rng0.standard_normal((d, d))
+    B = rng0.standard_normal((d, k))
+    dyn = particle.LinearGaussianDynamics(A, B @ B.T, np.zeros(d), np.eye(d))
+    assert dyn._LQ.shape[1] == k
+    x = rng0.standard_normal((5, 60, d))
+    outs = []
+    for inline in (True, False):
+        if not inline:
+            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+        rng = np.random.Generator(np.random.SFC64(9))
+        outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)

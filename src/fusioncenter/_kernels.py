@@ -33,7 +33,8 @@ __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "linear_transition", "power_table", "propagate_wna", "received_terms",
            "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
            "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add",
-           "sfc64_normals", "propagate_wna_draw"]
+           "sfc64_normals", "propagate_wna_draw",
+           "linear_transition_draw"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -500,6 +501,52 @@ def linear_transition(x, F, g, L, out):
                     noise = g[b, p, 0] * L[j, 0]
                     for m in range(1, k):
                         noise = _fma(g[b, p, m], L[j, m], noise)
+                    acc = acc + noise
+                out[b, p, j] = acc
+
+
+@numba.njit(cache=True, nogil=True)
+def linear_transition_draw(x, F, L, s, ki, wi, fi, r, inv_r, out):
+    """:func:`linear_transition` with the normals ``g[b, p, :]`` drawn inline (as
+    :func:`sfc64_normals`) from the SFC64 state ``s``, particle after particle, in the order
+    ``standard_normal`` fills ``g (n, P, k)``: the same numbers and the same arithmetic
+    (including the written-out ``d = 4``, ``k = 2`` case), without the array of normals."""
+    n, P, d = x.shape
+    k = L.shape[1]
+    g = np.empty(max(k, 1))
+    for b in range(n):
+        for p in range(P):
+            for m in range(k):
+                while True:
+                    u = _sfc64_next(s)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gm = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gm = -gm
+                    if rabs < ki[idx]:
+                        break
+                    ok, gm = _normal_rare(s, idx, rabs, gm, fi, r, inv_r)
+                    if ok:
+                        break
+                g[m] = gm
+            if d == 4 and k == 2:
+                x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
+                g0, g1 = g[0], g[1]
+                out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
+                out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
+                out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
+                out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
+                continue
+            for j in range(d):
+                acc = x[b, p, 0] * F[j, 0]
+                for q in range(1, d):
+                    acc = _fma(x[b, p, q], F[j, q], acc)
+                if k:
+                    noise = g[0] * L[j, 0]
+                    for q in range(1, k):
+                        noise = _fma(g[q], L[j, q], noise)
                     acc = acc + noise
                 out[b, p, j] = acc
 

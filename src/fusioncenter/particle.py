@@ -54,7 +54,7 @@ from typing import Protocol
 
 import numpy as np
 
-from fusioncenter import _kernels
+from fusioncenter import _kernels, _ziggurat
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
@@ -368,8 +368,15 @@ class LinearGaussianDynamics:
         if (x.ndim == 3 and x.shape[1] >= 2 and x.shape[2] >= 2 and x.dtype == np.float64
                 and x.flags.c_contiguous):
             # compiled: the arithmetic of BLAS dgemm (what matmul calls here) in one pass
-            g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
             out = np.empty_like(x)
+            zig = (_ziggurat.tables() if k and type(rng.bit_generator) is np.random.SFC64
+                   else None)
+            if zig is not None:  # NumPy's normals drawn inside the pass, in the same order
+                st = _ziggurat.draw_state(rng)
+                _kernels.linear_transition_draw(x, self.A, self._LQ, st, *zig, out)
+                _ziggurat.set_state(rng, st)
+                return out
+            g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
             _kernels.linear_transition(x, self.A, g, self._LQ, out)
             return out
         out = x @ self.A.T
