@@ -5,6 +5,10 @@ a zero-argument callable to time, and the first case of each group is that group
 Each callable is timed ``REPEATS`` times (after one warm-up); the table shows the median, the
 spread (min-max), and the ratio baseline_median / median (how many times faster). Results are
 also written to benchmarks/results/latest.json.
+
+``bench_particle_floor.py`` (``python benchmarks/run.py floor``) times its variants itself, in
+one interleaved run (CPU time, medians), and prints ns per particle-step and the ratios to the
+hand-fused reference kernel; its row in this table is only the duration of that whole run.
 """
 
 from __future__ import annotations

@@ -233,3 +233,161 @@ def test_sum_sensors_kernel_is_bitwise_numpy(N, P):
     out = np.empty((3, P))
     _kernels.sum_sensors(amp, out)
     np.testing.assert_array_equal(out, amp.sum(axis=1))
+
+
+@pytest.mark.parametrize("kind", ["lognormal", "sparse", "one", "equal"])
+@pytest.mark.parametrize("P", [1, 2, 7, 1000])
+def test_fused_resampling_is_the_ancestors_then_the_gather(kind, P):
+    """``resample_rows`` (the loop's fused resampling) gives bit for bit what
+    ``systematic_ancestors`` then ``take_rows`` give, rows not to resample copied."""
+    rng = np.random.default_rng(P + 11)
+    m = 9
+    w = _weights(kind, m, P, rng)
+    S = np.array([np.cumsum(row)[-1] for row in w])
+    u = rng.random(m)
+    u[0] = 0.0
+    todo = rng.random(m) < 0.7
+    todo[:2] = True, False
+    anc = np.empty((m, P), dtype=np.intp)
+    _kernels.systematic_ancestors(w, S, u, todo, anc)
+    for d in (1, 2, 5):  # the d = 2 case is written out in the kernel
+        x = rng.standard_normal((m, P, d))
+        for layout in (x, particle.by_component(x)):
+            want = np.empty_like(layout)
+            _kernels.take_rows(layout, anc, want)
+            got = np.full_like(layout, np.nan)
+            _kernels.resample_rows(w, S, u, todo, layout, got)
+            assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("add", [False, True])
+def test_gauss_terms_kernel_is_bitwise_numpy(add):
+    rng = np.random.default_rng(12)
+    m, P = 7, 300
+    y = particle.by_component(1e3 * rng.standard_normal((m, P, 2)))[..., 0]  # strided rows
+    zbar = rng.standard_normal(m)
+    coef = -0.5 / 0.7 * rng.integers(0, 4, m)  # including rows with no sensor received (0)
+    base = rng.standard_normal((m, P))
+    want = np.subtract(y, zbar[:, None])
+    np.square(want, out=want)
+    want *= coef[:, None]
+    if add:
+        want = base + want
+    got = base.copy()
+    _kernels.gauss_terms(y, zbar, coef, got, add)
+    assert np.array_equal(got, want)
+
+
+def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
+    """``LogTable.shifted_add`` (CFwMD's silent factor in the loop) against the NumPy steps it
+    replaces: the table at every point (``shifted``), rows without a silent sensor zeroed, the
+    product by the number of silent sensors, the sum; with points beyond the table (exact
+    function) in some rows."""
+    from fusioncenter.censoring.tables import silent_table
+
+    rng = np.random.default_rng(13)
+    m, P = 8, 400
+    table = silent_table(1.3)
+    y = 3.0 * rng.standard_normal((m, P))
+    y[2, 5] = 80.0  # beyond the table (|x| >= 48): evaluated exactly
+    y[5, 0] = -1e3
+    hp = rng.standard_normal(m)
+    ns = np.array([1, 0, 2, 1, 3, 2, 0, 1])
+    base = rng.standard_normal((m, P))
+    val = table.shifted(y, hp, 0.9, np.empty((m, P)))
+    assert np.isfinite(val).all()
+    val[ns == 0] = 0.0
+    val *= ns[:, None]
+    want = base + val
+    got = base.copy()
+    table.shifted_add(y, hp, 0.9, ns, got, np.empty((m, P)))
+    assert np.array_equal(got, want)
+    # the far rows went through the exact path: the kernel alone reports them
+    rows = np.empty(m, dtype=np.intp)
+    k = _kernels.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
+                                   base.copy(), rows)
+    assert rows[:k].tolist() == [2, 5]
+
+
+def _inline_tables():
+    import platform
+    import sys
+
+    from fusioncenter import _ziggurat
+
+    zig = _ziggurat.tables()
+    if zig is None and not (sys.platform == "linux" and platform.machine() == "x86_64"):
+        # another platform: the loop draws through NumPy (same numbers, slower)
+        pytest.skip("NumPy's ziggurat tables are not readable here")
+    # on the project's machines (Linux x86-64, NumPy's wheel) they must be found and pass
+    # the check of _ziggurat.tables (inline draws equal to standard_normal)
+    assert zig is not None
+    return zig
+
+
+@pytest.mark.parametrize("seed", [0, 2014])
+def test_inline_normals_are_numpys_bit_for_bit(seed):
+    """The kernels' SFC64 + ziggurat draws are ``standard_normal``'s numbers, and leave the
+    stream where NumPy leaves it; the draws include the tail and the wedges."""
+    from fusioncenter import _ziggurat
+
+    zig = _inline_tables()
+    rng = np.random.Generator(np.random.SFC64(seed))
+    s = _ziggurat.draw_state(rng)
+    n = 400_000
+    got = np.empty(n)
+    _kernels.sfc64_normals(s, *zig, got)
+    want = rng.standard_normal(n)
+    assert np.array_equal(got, want)
+    assert np.array_equal(s, _ziggurat.draw_state(rng))
+    assert np.sum(np.abs(want) > zig[3]) > 20  # the tail was drawn
+    assert s[3] - np.uint64(_ziggurat.draw_state(
+        np.random.Generator(np.random.SFC64(seed)))[3]) > n  # so were rejections
+
+
+def test_inline_draws_in_the_filter_change_no_bit(monkeypatch):
+    """The linear FC's transition with the normals drawn inside the pass against the same
+    filter drawing them through NumPy: the same estimates and the same generator state."""
+    from fusioncenter import _ziggurat
+    from fusioncenter import censoring as cs
+    from fusioncenter.censoring.fusion import LinearFusionCentre
+
+    _inline_tables()
+    sc = cs.LinearScenario()
+    z = sc.sample(np.random.default_rng(5), 6)[1]
+    sel = np.random.default_rng(6).random(z.shape)
+    outs = []
+    for inline in (True, False):
+        if not inline:
+            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+        rng = np.random.Generator(np.random.SFC64(7))
+        fc = LinearFusionCentre(sc, "cfwmd", "state", "corrected", cs.threshold(1.0, 2), 1.0,
+                                z, sel)
+        out = particle.run_filter(fc, rng, 6, 300, sc.T)
+        outs.append((out.mean, out.ess, out.log_evidence, fc.sent, rng.random(3)))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize(("d", "k"), [(2, 1), (4, 2), (3, 3)])
+def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch):
+    """``LinearGaussianDynamics.transition`` on an SFC64 stream draws its normals inside the
+    compiled pass (``linear_transition_draw``): the same values and the same stream position as
+    with ``standard_normal`` then ``linear_transition``."""
+    from fusioncenter import _ziggurat
+
+    _inline_tables()
+    rng0 = np.random.default_rng(d + k)
+    A = rng0.standard_normal((d, d))
+    B = rng0.standard_normal((d, k))
+    dyn = particle.LinearGaussianDynamics(A, B @ B.T, np.zeros(d), np.eye(d))
+    assert dyn._LQ.shape[1] == k
+    x = rng0.standard_normal((5, 60, d))
+    outs = []
+    for inline in (True, False):
+        if not inline:
+            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+        rng = np.random.Generator(np.random.SFC64(9))
+        outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)

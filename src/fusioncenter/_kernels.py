@@ -32,7 +32,9 @@ from numba.extending import intrinsic
 __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "linear_transition", "power_table", "propagate_wna", "received_terms",
            "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments"]
+           "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add",
+           "sfc64_normals", "propagate_wna_draw",
+           "linear_transition_draw"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -119,6 +121,70 @@ def systematic_ancestors(w, S, u, todo, anc):
         for k in range(P):
             a = max(a, anc[b, k])
             anc[b, k] = a
+
+
+@numba.njit(cache=True, nogil=True)
+def resample_rows(w, S, u, todo, src, dst):
+    """Systematic resampling fused with the gather: for every row ``b`` with ``todo[b]``,
+    ``dst[b, k, :] = src[b, a_k, :]`` with the ancestors ``a_k`` of
+    :func:`systematic_ancestors`, computed the same way (the same arithmetic, so the same
+    integers) into a scratch row that stays in the cache; its running maximum and the gather are
+    one pass. The other rows are copied. ``S[b]`` must be the row's sequential sum, as
+    :func:`weighted_moments` computes it."""
+    m, P = w.shape
+    d = src.shape[2]
+    anc = np.empty(P, dtype=np.intp)
+    for b in range(m):
+        if not todo[b]:
+            for k in range(P):
+                for j in range(d):
+                    dst[b, k, j] = src[b, k, j]
+            continue
+        for k in range(P):
+            anc[k] = 0
+        total = S[b]
+        ub = u[b]
+        c = 0.0
+        lo = 0
+        for i in range(P - 1):
+            c += w[b, i]
+            if lo < P:
+                anc[lo] = i
+            lo = int(math.ceil(c / total * P - ub))
+        if lo < P:
+            anc[lo] = P - 1
+        a = 0
+        if d == 2:
+            for k in range(P):
+                a = max(a, anc[k])
+                dst[b, k, 0] = src[b, a, 0]
+                dst[b, k, 1] = src[b, a, 1]
+        else:
+            for k in range(P):
+                a = max(a, anc[k])
+                for j in range(d):
+                    dst[b, k, j] = src[b, a, j]
+
+
+@numba.njit(cache=True, nogil=True)
+def gauss_terms(y, zbar, coef, out, add):
+    """The received sensors' Gaussian log-likelihood of a group, per row ``b``: ``e = (y[b, i] -
+    zbar[b])^2 * coef[b]`` (subtract, square, multiply, in this order: the NumPy arithmetic of
+    ``censoring.fusion``), written to ``out[b, i]`` or, if ``add``, added to it. One pass."""
+    m, P = y.shape
+    for b in range(m):
+        zb = zbar[b]
+        c = coef[b]
+        if add:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = out[b, i] + e * c
+        else:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = e * c
 
 
 @numba.njit(cache=True, nogil=True)
@@ -279,6 +345,108 @@ def propagate_wna(x, dt, g, L):
             x[b, i, 1] = v
 
 
+# ----------------------------------------------------------------------------- inline normals
+_U1 = np.uint64(1)
+_U3 = np.uint64(3)
+_U8 = np.uint64(8)
+_U11 = np.uint64(11)
+_U24 = np.uint64(24)
+_U40 = np.uint64(40)
+_M8 = np.uint64(0xFF)
+_M52 = np.uint64(0xFFFFFFFFFFFFF)
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_next(s):
+    """The next 64-bit output of the SFC64 state ``s (4,) uint64`` (NumPy's algorithm)."""
+    out = s[0] + s[1] + s[3]
+    s[3] = s[3] + _U1
+    s[0] = s[1] ^ (s[1] >> _U11)
+    s[1] = s[2] + (s[2] << _U3)
+    s[2] = ((s[2] << _U24) | (s[2] >> _U40)) + out
+    return out
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_double(s):
+    """A uniform in ``[0, 1)`` from the top 53 bits (NumPy's ``next_double``)."""
+    return np.float64(_sfc64_next(s) >> _U11) * (1.0 / 9007199254740992.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal_rare(s, idx, rabs, x, fi, r, inv_r):
+    """The ziggurat's rare branches (about 1 % of the draws), after the layer test failed for
+    the 64-bit output that gave ``idx``, ``rabs`` and ``x``: the tail (layer 0) or the wedge
+    test. Returns ``(accepted, value)``; not accepted: the caller draws again."""
+    if idx == 0:
+        while True:
+            xx = -inv_r * math.log1p(-_sfc64_double(s))
+            yy = -math.log1p(-_sfc64_double(s))
+            if yy + yy > xx * xx:
+                return True, (-(r + xx) if (rabs >> _U8) & _U1 else r + xx)
+    if (fi[idx - 1] - fi[idx]) * _sfc64_double(s) + fi[idx] < math.exp(-0.5 * x * x):
+        return True, x
+    return False, 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def sfc64_normals(s, ki, wi, fi, r, inv_r, out):
+    """Fill ``out`` (flat order) with standard normals from the SFC64 state ``s (4,) uint64``:
+    NumPy's 256-layer ziggurat with its tables ``ki, wi, fi`` and tail constants
+    (:func:`fusioncenter._ziggurat.tables`), so NumPy's ``standard_normal`` numbers. (The
+    common branch is written out in each kernel that draws: calling a compiled function with
+    the table arrays for every draw costs more than the draw.)"""
+    o = out.reshape(-1)
+    for n in range(o.shape[0]):
+        while True:
+            u = _sfc64_next(s)
+            idx = np.intp(u & _M8)
+            u = u >> _U8
+            rabs = (u >> _U1) & _M52
+            x = np.float64(rabs) * wi[idx]
+            if u & _U1:
+                x = -x
+            if rabs < ki[idx]:
+                break
+            ok, x = _normal_rare(s, idx, rabs, x, fi, r, inv_r)
+            if ok:
+                break
+        o[n] = x
+
+
+@numba.njit(cache=True, nogil=True)
+def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
+    """:func:`propagate_wna` with the normals ``g[b, i, j]`` drawn inline (as
+    :func:`sfc64_normals`) from the SFC64 state ``s`` in the order ``standard_normal(out=g)``
+    fills ``g (m, P, k)`` (row-major): the same numbers, the same arithmetic, without the array
+    of normals."""
+    m, P = x.shape[0], x.shape[1]
+    k = L.shape[1]
+    for b in range(m):
+        for i in range(P):
+            p = x[b, i, 0]
+            v = x[b, i, 1]
+            p = p + v * dt
+            for j in range(k):
+                while True:
+                    u = _sfc64_next(s)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gj = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gj = -gj
+                    if rabs < ki[idx]:
+                        break
+                    ok, gj = _normal_rare(s, idx, rabs, gj, fi, r, inv_r)
+                    if ok:
+                        break
+                p = p + gj * L[0, j]
+                v = v + gj * L[1, j]
+            x[b, i, 0] = p
+            x[b, i, 1] = v
+
+
 @intrinsic
 def _fma(typingctx, a, b, c):
     """``a b + c`` rounded once (the fused multiply-add instruction)."""
@@ -338,6 +506,52 @@ def linear_transition(x, F, g, L, out):
 
 
 @numba.njit(cache=True, nogil=True)
+def linear_transition_draw(x, F, L, s, ki, wi, fi, r, inv_r, out):
+    """:func:`linear_transition` with the normals ``g[b, p, :]`` drawn inline (as
+    :func:`sfc64_normals`) from the SFC64 state ``s``, particle after particle, in the order
+    ``standard_normal`` fills ``g (n, P, k)``: the same numbers and the same arithmetic
+    (including the written-out ``d = 4``, ``k = 2`` case), without the array of normals."""
+    n, P, d = x.shape
+    k = L.shape[1]
+    g = np.empty(max(k, 1))
+    for b in range(n):
+        for p in range(P):
+            for m in range(k):
+                while True:
+                    u = _sfc64_next(s)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gm = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gm = -gm
+                    if rabs < ki[idx]:
+                        break
+                    ok, gm = _normal_rare(s, idx, rabs, gm, fi, r, inv_r)
+                    if ok:
+                        break
+                g[m] = gm
+            if d == 4 and k == 2:
+                x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
+                g0, g1 = g[0], g[1]
+                out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
+                out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
+                out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
+                out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
+                continue
+            for j in range(d):
+                acc = x[b, p, 0] * F[j, 0]
+                for q in range(1, d):
+                    acc = _fma(x[b, p, q], F[j, q], acc)
+                if k:
+                    noise = g[0] * L[j, 0]
+                    for q in range(1, k):
+                        noise = _fma(g[q], L[j, q], noise)
+                    acc = acc + noise
+                out[b, p, j] = acc
+
+
+@numba.njit(cache=True, nogil=True)
 def table_shifted(coef, n_int, y, shift, scale, out):
     """Interpolation table (:class:`fusioncenter.censoring.tables.LogTable`, even) at
     ``|y[b, i] - shift[b]| * scale`` in units of the table's step: ``out[b, i]`` is the Horner
@@ -363,6 +577,52 @@ def table_shifted(coef, n_int, y, shift, scale, out):
             if acc != acc:
                 n_far += 1
             out[b, i] = acc
+    return n_far
+
+
+@numba.njit(cache=True, nogil=True)
+def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
+    """``out[b, i] += ns[b] f(|y[b, i] - shift[b]| * scale)`` (``f`` the table of
+    :func:`table_shifted`, ``+ 0.0`` where ``ns[b] = 0``, no product where ``ns[b] = 1``),
+    row by row: the arithmetic, in its order, of :func:`table_shifted`, then zeroing the rows
+    without a silent sensor, the product by ``ns`` and the addition. A row with a point beyond
+    the table (or on an interval with a non-finite node) is left unchanged and its index is
+    stored in ``far_rows``; returns how many such rows (the caller evaluates them exactly)."""
+    m, P = y.shape
+    deg = coef.shape[1]
+    val = np.empty(P)
+    n_far = 0
+    for b in range(m):
+        nsb = ns[b]
+        if nsb == 0:
+            for i in range(P):
+                out[b, i] = out[b, i] + 0.0
+            continue
+        sh = shift[b]
+        far = False
+        for i in range(P):  # no early exit (vectorizable); a far row's values are dropped
+            t = abs(y[b, i] - sh) * scale
+            inside = t < n_int
+            if not inside:
+                t = 0.0
+            j = int(t)
+            t -= j
+            acc = coef[j, 0] * t + coef[j, 1]
+            for q in range(2, deg):
+                acc = acc * t + coef[j, q]
+            far = far or not inside or acc != acc
+            val[i] = acc
+        if far:
+            far_rows[n_far] = b
+            n_far += 1
+            continue
+        if nsb == 1:
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i]
+        else:
+            c = np.float64(nsb)
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i] * c
     return n_far
 
 

@@ -54,7 +54,7 @@ from typing import Protocol
 
 import numpy as np
 
-from fusioncenter import _kernels
+from fusioncenter import _kernels, _ziggurat
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
@@ -368,8 +368,15 @@ class LinearGaussianDynamics:
         if (x.ndim == 3 and x.shape[1] >= 2 and x.shape[2] >= 2 and x.dtype == np.float64
                 and x.flags.c_contiguous):
             # compiled: the arithmetic of BLAS dgemm (what matmul calls here) in one pass
-            g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
             out = np.empty_like(x)
+            zig = (_ziggurat.tables() if k and type(rng.bit_generator) is np.random.SFC64
+                   else None)
+            if zig is not None:  # NumPy's normals drawn inside the pass, in the same order
+                st = _ziggurat.draw_state(rng)
+                _kernels.linear_transition_draw(x, self.A, self._LQ, st, *zig, out)
+                _ziggurat.set_state(rng, st)
+                return out
+            g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
             _kernels.linear_transition(x, self.A, g, self._LQ, out)
             return out
         out = x @ self.A.T
@@ -443,9 +450,10 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
 
     The hot pieces are compiled (:mod:`fusioncenter._kernels`): after subtracting each trial's
     maximum log weight and exponentiating, one pass per trial gives the weight sum, the weighted
-    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more the
-    systematic-resampling ancestors (:func:`fusioncenter._kernels.systematic_ancestors`) and the
-    gather (:func:`fusioncenter._kernels.take_rows`). Everything is row by row: a trial's result
+    means and the ESS (:func:`fusioncenter._kernels.weighted_moments`), and one more systematic
+    resampling fused with the gather (:func:`fusioncenter._kernels.resample_rows`: the
+    ancestors of :func:`fusioncenter._kernels.systematic_ancestors`, without storing them).
+    Everything is row by row: a trial's result
     does not depend on the other trials of the batch. A trial whose weights are all zero (no
     particle compatible with the data) keeps uniform weights for that step and is flagged in
     :attr:`FilterOutput.collapsed`.
@@ -498,7 +506,6 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
     offset = np.full(n, math.log(P))
     S, ess_b = np.empty(n), np.empty(n)
     mean = np.empty((n, d))
-    anc = np.empty((n, P), dtype=np.intp)
     spare = np.empty_like(x)  # the same memory layout as x (see by_component)
     all_rows = np.ones(n, dtype=bool)
     for t in range(1, steps + 1):
@@ -544,7 +551,6 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
             with np.errstate(divide="ignore"):
                 carried = np.where(todo[:, None], 0.0, np.log(w / S[:, None]))
             offset = np.where(todo, math.log(P), 0.0)
-        _kernels.systematic_ancestors(w, S, u, todo, anc)
-        _kernels.take_rows(x, anc, spare)
+        _kernels.resample_rows(w, S, u, todo, x, spare)
         x, spare = spare, x
     return FilterOutput(mean=means, cov=covs, ess=esss, log_evidence=log_ev, collapsed=collapsed)

@@ -73,9 +73,10 @@ def run(scenario: LinearScenario, scheme: str, *, l, n_trials: int, n_particles:
     ``chunk_size`` and executor; trials are paired across schemes for the same ``seed``,
     ``n_trials`` and ``block_size``. Every scheme except the exact no-feedback filter runs
     :class:`LinearFusionCentre` through :func:`fusioncenter.particle.run_filter`, sub-block by
-    sub-block: on the project's 2-core machine about 20-30 ns per particle and step for CFwMD
-    with state feedback (``benchmarks/bench_censoring.py``), of which about 7 are the normal
-    draws, 3 the silent factor and 4 the resampling; less for the schemes without a silent
+    sub-block: on the project's 2-core machine about 20 ns per particle and step for CFwMD
+    with state feedback and 15 for all-send (CPU time, ``benchmarks/bench_particle_floor.py``),
+    of which about 4-5 are the propagation with its normals drawn inline, 3-4 the silent factor
+    and 4 the resampling; less for the schemes without a silent
     factor, more for CFwMD2 (two ``ndtr`` per particle) and for the corrected Proposition 3
     (bivariate normal probabilities). Peak memory of a task (tracemalloc): a few MiB for
     :class:`LinearFusionCentre` (it works on sub-blocks of about 32k particles: 5 MiB for the

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, particle
+from fusioncenter import _kernels, _ziggurat, particle
 from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
 from fusioncenter.censoring.probability import (
     log_prob_inside,
@@ -290,7 +290,11 @@ class LinearFusionCentre:
     feedback their decisions at step ``t`` depend on what the FC broadcast after step ``t - 1``.
     Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
 
-    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna`);
+    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna_draw`)
+      that draws NumPy's normals itself (SFC64 and NumPy's ziggurat, the same numbers in the
+      same order as ``standard_normal``; :mod:`fusioncenter._ziggurat`), or, where NumPy's
+      tables cannot be read, :func:`fusioncenter._kernels.propagate_wna` after
+      ``standard_normal``;
     * the silent factor with state feedback is the interpolation table :func:`silent_table`
       (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
       corrected Proposition 3 with one sensor received (:func:`region_table`) and, per trial,
@@ -386,12 +390,8 @@ class LinearFusionCentre:
                 # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
                 # a constant per trial (centred: no cancellation however large the positions)
                 zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
-                dst = tmp if started else lw
-                np.subtract(y, zbar[:, None], out=dst)
-                np.square(dst, out=dst)
-                dst *= (-0.5 / rg * n_obs)[:, None]
-                if started:
-                    lw += tmp
+                # (y - zbar)^2 (-n / (2 r)), written or added in one compiled pass
+                _kernels.gauss_terms(y, zbar, -0.5 / rg * n_obs, lw, started)
                 started = True
             silent = silent_rows(self, g, n_obs)
             if silent is None:
@@ -408,12 +408,16 @@ class LinearFusionCentre:
                 hh = np.sqrt(self.eta * s[rows if not every else slice(None), g[0]]) / sd
                 with np.errstate(invalid="ignore"):
                     val = log_prob_inside(mu, hh[:, None])
-            else:
+            elif every:  # one compiled pass: the table, the product by ns and the sum
+                if not started:
+                    lw.fill(0.0)
+                    started = True
+                silent_table(math.sqrt(self.eta * s[g[0]]) / sd).shifted_add(
+                    y, hp, 1.0 / sd, n_sil, lw, tmp)
+                continue
+            else:  # the same arithmetic on the rows that need it
                 table = silent_table(math.sqrt(self.eta * s[g[0]]) / sd)
-                if every:
-                    val = table.shifted(y, hp, 1.0 / sd, tmp)
-                else:  # the same arithmetic on the rows that need it
-                    val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
+                val = table.shifted(y[rows], hp[rows], 1.0 / sd, tmp[:rows.size])
             ns = n_sil if every else n_sil[rows]
             if every and not ns.all():
                 val[ns == 0] = 0.0
@@ -481,8 +485,15 @@ class LinearFusionCentre:
         return particle.by_component(self.sc.dynamics.initial(rng, n, P))
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``."""
+        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``
+        (``rng.standard_normal``'s numbers, drawn inside the pass for an SFC64 ``rng``)."""
         shape = (*x.shape[:2], self.LQ.shape[1])
+        zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
+        if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
+            st = _ziggurat.draw_state(rng)
+            _kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            _ziggurat.set_state(rng, st)
+            return x
         if self._g.shape != shape:
             self._g = np.empty(shape)
         if shape[2]:

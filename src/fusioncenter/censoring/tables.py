@@ -76,6 +76,24 @@ class LogTable:
             out[far] = self.fn((y - shift[:, None])[far] * scale)
         return out
 
+    def shifted_add(self, y: np.ndarray, shift: np.ndarray, scale: float, ns: np.ndarray,
+                    out: np.ndarray, work: np.ndarray) -> None:
+        """``out += where(ns == 0, 0, f((y - shift[:, None]) * scale) * ns[:, None])`` for an
+        even table (no product where ``ns = 1``), in one compiled pass per row
+        (:func:`fusioncenter._kernels.table_shifted_add`); the rows with a point beyond the
+        table go through :meth:`shifted` (``work`` as scratch, the shape of ``y``), so every
+        value is the arithmetic of :meth:`shifted` followed by the product and the sum."""
+        rows = np.empty(y.shape[0], dtype=np.intp)
+        k = _kernels.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
+                                       out, rows)
+        if k:
+            rows = rows[:k]
+            val = self.shifted(y[rows], shift[rows], scale, work[:k])
+            nsr = ns[rows]
+            if np.any(nsr > 1):
+                val *= nsr[:, None]
+            out[rows] += val
+
     def _finish(self, t: np.ndarray, exact_x) -> np.ndarray:
         """Interpolate at ``t = (x - x_k0) / step`` (overwritten); ``exact_x(mask)`` gives the
         arguments where the exact function is needed."""

@@ -1,0 +1,100 @@
+"""NumPy's standard normals drawn inside compiled loops, bit for bit.
+
+``numpy.random.Generator.standard_normal`` on an SFC64 bit generator is a 256-layer ziggurat
+(one 64-bit output per draw in 99 % of the cases: 8 bits pick the layer, one the sign, 52 the
+abscissa; the wedges and the tail use more outputs and ``exp`` / ``log1p``). The kernels of
+:mod:`fusioncenter._kernels` can run the same algorithm inline (``_kernels.sfc64_normal``), so
+a particle filter draws its noise in the pass that uses it, with NumPy's numbers. What they
+need is NumPy's own three tables (acceptance bounds ``ki``, widths ``wi``, densities ``fi``):
+these were generated at high precision and cannot be recomputed in double precision to the
+last bit, so :func:`tables` reads them from the installed NumPy's compiled ``_generator``
+module (its ELF symbol table names them), and accepts them only if the inline draws then
+reproduce ``standard_normal`` bit for bit on a check stream that exercises the tail and the
+wedges. Anything else (another platform, a stripped build, another NumPy algorithm, a failed
+check) returns ``None``, and the callers draw through NumPy as before: the results are the
+same either way, only the speed differs.
+"""
+
+from __future__ import annotations
+
+import functools
+import glob
+import os
+import struct
+
+import numpy as np
+
+__all__ = ["tables", "draw_state", "set_state"]
+
+_NAMES = (b"ki_double", b"wi_double", b"fi_double")
+#: Draws of the acceptance check (about 0.7 % go through a wedge, 0.03 % through the tail).
+CHECK_DRAWS = 200_000
+
+
+def _elf_symbols(path: str) -> dict[bytes, np.ndarray] | None:
+    """The three tables from the ELF file ``path`` (64-bit little-endian), or ``None``."""
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    if raw[:4] != b"\x7fELF" or raw[4] != 2 or raw[5] != 1:
+        return None
+    shoff, = struct.unpack_from("<Q", raw, 0x28)
+    shentsize, shnum = struct.unpack_from("<HH", raw, 0x3A)
+    secs = [struct.unpack_from("<IIQQQQIIQQ", raw, shoff + i * shentsize) for i in range(shnum)]
+    found: dict[bytes, np.ndarray] = {}
+    for sec in secs:
+        if sec[1] != 2:  # SHT_SYMTAB
+            continue
+        strtab = secs[sec[6]]
+        for k in range(sec[5] // 24):
+            st_name, _info, _other, shndx, value, size = struct.unpack_from(
+                "<IBBHQQ", raw, sec[4] + 24 * k)
+            start = strtab[4] + st_name
+            name = raw[start:raw.index(b"\0", start)]
+            if name in _NAMES and size == 256 * 8 and 0 < shndx < shnum:
+                home = secs[shndx]
+                off = value - home[3] + home[4]
+                dtype = np.uint64 if name == b"ki_double" else np.float64
+                found[name] = np.frombuffer(raw, dtype, 256, off).copy()
+    return found if len(found) == 3 else None
+
+
+def draw_state(rng: np.random.Generator) -> np.ndarray:
+    """The SFC64 state ``(4,) uint64`` of ``rng`` (for the inline draws)."""
+    return np.array(rng.bit_generator.state["state"]["state"], dtype=np.uint64)
+
+
+def set_state(rng: np.random.Generator, s: np.ndarray) -> None:
+    """Give ``rng`` the SFC64 state ``s`` after the inline draws (the rest of its state, the
+    buffered 32-bit half, is untouched: the normals do not use it)."""
+    st = rng.bit_generator.state
+    st["state"]["state"] = s
+    rng.bit_generator.state = st
+
+
+@functools.cache
+def tables():
+    """``(ki, wi, fi, r, inv_r)``: NumPy's ziggurat tables and tail constants, checked, or
+    ``None`` (see the module docstring). ``FUSIONCENTER_INLINE_NORMALS=0`` disables them."""
+    if os.environ.get("FUSIONCENTER_INLINE_NORMALS", "1") == "0":
+        return None
+    from fusioncenter import _kernels
+
+    here = os.path.dirname(np.random.__file__)
+    for path in sorted(glob.glob(os.path.join(here, "_generator*"))):
+        try:
+            found = _elf_symbols(path)
+        except (OSError, ValueError, struct.error, IndexError):
+            found = None
+        if found is None:
+            continue
+        ki, wi, fi = (found[n] for n in _NAMES)
+        r = float(wi[255] * 2.0**52)
+        zig = (ki, wi, fi, r, 1.0 / r)
+        rng = np.random.Generator(np.random.SFC64(20141031))
+        s = draw_state(rng)
+        mine = np.empty(CHECK_DRAWS)
+        _kernels.sfc64_normals(s, *zig, mine)
+        want = rng.standard_normal(CHECK_DRAWS)
+        if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)):
+            return zig
+    return None
