@@ -7,6 +7,8 @@ validator; covariances are checked symmetric and positive semi-definite (or defi
 relative tolerance. The validators never modify the values they accept (``covariance`` returns
 the input unchanged, not symmetrized), so accepting an input does not change any result bit.
 
+* ``is_text(value) -> bool``: text, or a sequence/array holding text (refused by every
+  numeric validator: NumPy would turn ``"1"`` into ``1.0``).
 * ``posint(name, value) -> int``: a positive integer (``bool`` rejected, NumPy integers
   accepted).
 * ``integer(name, value, minimum=0) -> int``: an integer ``>= minimum`` (``bool`` rejected).
@@ -40,7 +42,7 @@ import numpy as np
 
 from fusioncenter._docstrings import Glossary
 
-__all__ = ["posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
+__all__ = ["is_text", "posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
            "square", "finite_result", "shape_is", "broadcast", "received", "consistent",
            "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
 
@@ -89,7 +91,7 @@ def integer(name: str, value, minimum: int = 0) -> int:
     return int(value)
 
 
-def _is_text(value) -> bool:
+def is_text(value) -> bool:
     """Whether ``value`` is (or holds) text: NumPy would turn ``"1"`` into ``1.0`` silently."""
     if isinstance(value, str | bytes):
         return True
@@ -97,12 +99,12 @@ def _is_text(value) -> bool:
         return value.dtype.kind in "USO" and (value.dtype.kind != "O" or any(
             isinstance(e, str | bytes) for e in value.flat))
     if isinstance(value, list | tuple):
-        return any(_is_text(e) for e in value)
+        return any(is_text(e) for e in value)
     return False
 
 
 def _as_float(name: str, value) -> np.ndarray:
-    if _is_text(value):
+    if is_text(value):
         raise ValueError(f"{name} must be a real number or array of them, not text, "
                          f"got {value!r}")
     try:

@@ -186,9 +186,9 @@ class LinearGaussianModel:
         for k in range(T1):
             innov = y[:, k] - m @ self.C.T
             try:
-                xhat[:, k], Ps[k], m, P = kalman_step(m, P, innov, self.C, self.R, self.A,
-                                                      self.Q, r_singular=r_singular,
-                                                      check=k == 0)
+                xhat[:, k], Ps[k], m, P = _kalman_step(m, P, innov, self.C, self.R, self.A,
+                                                       self.Q, r_singular=r_singular,
+                                                       check=k == 0)
             except ValueError as err:
                 if not str(err).startswith("innov contradicts"):
                     raise
@@ -280,6 +280,14 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
         no posterior exists; a zero innovation there is fine).
     """
     _step_shapes(x, P, innov, C, R, A, Q)
+    return _kalman_step(x, P, innov, C, R, A, Q, r_singular=r_singular, check=check)
+
+
+def _kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
+                 check: bool = False) -> KalmanStep:
+    """:func:`kalman_step` without the shape checks (the filters' per-step kernel: their shapes
+    are fixed at entry). The consistency check of a singular ``S`` stays (it costs nothing
+    unless ``R`` is singular)."""
     if r_singular is None:
         r_singular = singular(R)
     # the covariance update first: with check=True it validates P and R (naming them) before

@@ -312,8 +312,10 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
     where ``S`` is exactly singular. With ``singular=True`` (the noise covariance is singular,
     see :func:`singular`) it is the pseudo-inverse with eigenvalues below ``PINV_RCOND`` times
     the largest treated as zero: noise-free sensors measuring directions the prior already knows
-    up to rounding, the limit of the Kalman gain as ``R -> 0``. Only finiteness is checked (the
-    callers check their covariances).
+    up to rounding, the limit of the Kalman gain as ``R -> 0``. Where the diagonal of ``S``
+    spans more than ``1 / PINV_RCOND`` the rows and columns are first scaled to a unit diagonal,
+    so that a well-determined small direction is not taken for a zero one. Only finiteness is
+    checked (the callers check their covariances).
 
     Parameters
     ----------
@@ -338,11 +340,33 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
         raise ValueError("S and B must be finite (an innovation covariance and its right-hand "
                          "side)")
     if singular:
-        return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+        out = np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+        return _rescaled(S, B, out)
     try:
         return np.linalg.solve(S, B)
     except np.linalg.LinAlgError:
         return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+
+
+def _rescaled(S: np.ndarray, B: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """Redo the pseudo-inverse solve where the diagonal of ``S`` spans more than
+    ``1 / PINV_RCOND`` (e.g. a noise-free sensor beside a silent one with ``delta = 1e12``):
+    there the relative threshold would drop a direction that is well determined (a variance
+    of 1.5 beside 1e12) and ignore its measurement. The rows and columns are scaled to a unit
+    diagonal first (zero diagonal entries, directions known exactly, keep scale 1). Elsewhere
+    ``out`` is returned unchanged."""
+    d = np.diagonal(S, axis1=-2, axis2=-1)
+    pos = d > 0
+    big = np.where(pos, d, 0.0).max(axis=-1)
+    small = np.where(pos, d, np.inf).min(axis=-1)
+    wide = big > small / PINV_RCOND
+    if not np.any(wide):
+        return out
+    sc = 1.0 / np.sqrt(np.where(pos, d, 1.0))  # (..., m)
+    Ss = sc[..., :, None] * S * sc[..., None, :]
+    redo = sc[..., :, None] * (np.linalg.pinv(Ss, rcond=PINV_RCOND, hermitian=True)
+                               @ (sc[..., :, None] * B))
+    return np.where(wide[..., None, None], redo, out) if np.ndim(wide) else redo
 
 
 def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray, sing: bool | None = None) -> np.ndarray:

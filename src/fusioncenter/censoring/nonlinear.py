@@ -64,7 +64,10 @@ from fusioncenter.censoring.nonlinear_model import (
     _amplitude,
     _ekf_step,
     _jacobian,
+    amplitude,  # noqa: F401 (re-exported)
+    ekf_covariance_step,  # noqa: F401 (re-exported)
     grid_positions,  # noqa: F401 (re-exported)
+    jacobian,  # noqa: F401 (re-exported)
     local_ekf,
 )
 from fusioncenter.censoring.nonlinear_model import amplitude_from_d2 as _amp_from_d2
