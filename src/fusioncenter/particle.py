@@ -58,6 +58,7 @@ from fusioncenter import _kernels
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import is_text
 from fusioncenter._validate import square as _square
 
 __all__ = [
@@ -315,7 +316,7 @@ def psd_factor(M, *, rtol: float = 1e-12) -> np.ndarray:
 
 
 def _matrix(name: str, value, shape=None) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
+    arr = np.asarray(value, dtype=float) if not is_text(value) else _finite(name, value)
     if arr.ndim != 2 or (shape is not None and arr.shape != shape):
         raise ValueError(f"{name} must be a matrix of shape {shape}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
