@@ -42,6 +42,7 @@ from fusioncenter import (
     synthesis,
 )
 from fusioncenter.censoring import nonlinear
+from fusioncenter.censoring import probability as cprob
 from fusioncenter.fading import Nakagami, Rayleigh
 
 EXAMPLES: collections.Counter = collections.Counter()
@@ -383,6 +384,18 @@ ENTRY_POINTS = [
      dict(z=(NAN, INF, TEXT, SHAPE), hx=NUM, hx_pred=NUM, s=VAR, r=VAR, eta=VAR)),
     ("censoring.log_likelihood_feedback", censoring.log_likelihood_feedback, LL,
      dict(z=(NAN, INF, TEXT, SHAPE), hx=NUM, hx_pred=NUM, s=VAR, r=VAR, eta=VAR)),
+    # the censoring probabilities (checked entry points of the filters' kernels)
+    ("censoring.probability.log_prob_inside", cprob.log_prob_inside,
+     dict(m=[0.5, -1.0], h=[1.0, 2.0]), dict(m=NUM + (SHAPE,), h=(NAN, NEG, TEXT))),
+    ("censoring.probability.prob_inside", lambda m, h: cprob.prob_inside(m, h, log=False),
+     dict(m=[0.5, -1.0], h=[1.0, 2.0]), dict(m=NUM, h=(NAN, NEG, TEXT))),
+    ("censoring.probability.truncated_normal", cprob.truncated_normal,
+     dict(u=[0.2, 0.7], lo=[-1.0, 0.5], hi=[1.0, 3.0]), dict(u=VAR, lo=(NAN, TEXT))),
+    ("censoring.probability.log_silent_constant", cprob.log_silent_constant,
+     dict(Vcov=P2, a=[1.0, 2.0]), dict(Vcov=COV, a=VAR)),
+    ("censoring.probability.log_region_probability", cprob.log_region_probability,
+     dict(c=[0.5, -0.5], cov=P2, a=[1.0, 2.0], outside=(True, False)),
+     dict(c=NUM, cov=COV, a=VAR)),
     # the particle helpers: ancestor indices and weighted statistics
     ("particle.resample", lambda x, idx: particle.resample(x, idx),
      dict(x=np.arange(12.0).reshape(2, 3, 2), idx=np.array([[0, 2, 2], [1, 1, 0]])),

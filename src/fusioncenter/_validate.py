@@ -295,7 +295,8 @@ def consistent(name: str, S, rhs, scale, rcond: float = 1e-10) -> None:
 
     Along an eigenvector ``v`` of ``S`` whose eigenvalue ``lam`` counts as zero (``lam <= rcond
     * max lam``, the pseudo-inverse's rule), the innovation ``v^T rhs`` is a
-    ``N(0, lam)`` draw; if it exceeds ``CONSISTENCY_RTOL * scale + 40 sqrt(lam)`` the
+    ``N(0, lam)`` draw; if it exceeds ``CONSISTENCY_RTOL * scale + 40 sqrt(max(lam, 4 eps
+    max lam))`` (eigenvalues are known to rounding only) the
     measurement has a component along a direction in which it has (next to) no uncertainty
     (``P = 0`` and ``R = 0`` there): the measured value contradicts the model, and no
     posterior exists. A merely ill-conditioned ``S`` (one large noise variance beside a small
@@ -329,7 +330,10 @@ def consistent(name: str, S, rhs, scale, rcond: float = 1e-10) -> None:
     if not np.any(zero):
         return
     proj = np.abs(np.swapaxes(V, -1, -2) @ rhs)  # (..., m, k)
-    lim = CONSISTENCY_RTOL * max(1.0, float(scale)) + 40.0 * np.sqrt(np.clip(lam, 0.0, None))
+    # an eigenvalue is known to about eps * max lam only: data drawn with a square root of a
+    # computed covariance carry sqrt(eps * max lam) along its null directions
+    floor = 4.0 * np.finfo(float).eps * top
+    lim = CONSISTENCY_RTOL * max(1.0, float(scale)) + 40.0 * np.sqrt(np.maximum(lam, floor))
     bad = zero[..., None] & (proj > lim[..., None])
     if np.any(bad):
         worst = float(np.max(np.where(bad, proj, 0.0)))

@@ -493,7 +493,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * censoring.probability.log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * censoring.probability._log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):

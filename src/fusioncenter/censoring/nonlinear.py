@@ -119,7 +119,7 @@ def log_silent_probability(m, h):
 def _log_silent(m, h):
     """:func:`log_silent_probability` without checks (the filters' own calls)."""
     m, h = np.broadcast_arrays(np.asarray(m, dtype=float), np.asarray(h, dtype=float))
-    return cprob.log_prob_inside(m, h)
+    return cprob._log_prob_inside(m, h)
 
 
 def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
