@@ -30,7 +30,19 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from fusioncenter import event, fading, kalman, models, particle, power, riccati, synthesis
+from fusioncenter import (
+    censoring,
+    event,
+    fading,
+    kalman,
+    models,
+    particle,
+    power,
+    riccati,
+    synthesis,
+)
+from fusioncenter.censoring import nonlinear
+from fusioncenter.censoring import probability as cprob
 from fusioncenter.fading import Nakagami, Rayleigh
 
 EXAMPLES: collections.Counter = collections.Counter()
@@ -54,16 +66,33 @@ H3, C3, V3 = np.array([1.0, 0.5, 2.0]), np.array([1.0, -0.5, 2.0]), np.array([1.
 # kinds of bad value
 NAN, INF, NINF, NEG, ASYM, INDEF, NOTINT, BOOL = ("nan", "inf", "-inf", "neg", "asym",
                                                   "indef", "notint", "bool")
-NUM = (NAN, INF, NINF)
+# issue 29: numbers as text ("1" was converted silently), a wrong last-axis length (NumPy's
+# matmul/broadcast message instead of the argument's name), ancestor indices out of range,
+# negative (wrapped around silently) or not integers
+TEXT, SHAPE, OUTIDX, NEGIDX, FLTIDX = "text", "shape", "outidx", "negidx", "fltidx"
+NUM = (NAN, INF, NINF, TEXT)
 VAR = NUM + (NEG,)
 COV = NUM + (ASYM, INDEF)
 INT = (NOTINT, BOOL)
+IDX = (OUTIDX, NEGIDX, FLTIDX)
+#: For entry points whose table lambda converts its arrays itself (text is no input there).
+NUM0, COV0 = (NAN, INF, NINF), (NAN, INF, NINF, ASYM, INDEF)
 
 
 def _bad(kind: str, good, where: int = 0, size: float = 1.0):
     """A bad value of ``kind`` shaped like ``good`` (``where``: which entry is spoiled, ``size``
     how far from valid)."""
+    if kind in (OUTIDX, NEGIDX, FLTIDX):
+        g = np.array(good).copy()
+        if kind == FLTIDX:
+            return g.astype(float)
+        g.flat[where % max(g.size, 1)] = -1 if kind == NEGIDX else 10**6
+        return g
     g = np.array(good, dtype=float)
+    if kind == TEXT:  # the same numbers, written as text
+        return str(float(g)) if g.ndim == 0 else g.astype(str)
+    if kind == SHAPE:  # one entry too many on the last axis
+        return np.concatenate([g, g[..., :1]], axis=-1)
     if kind in (NAN, INF, NINF):
         g = g.copy()
         g.flat[where % max(g.size, 1)] = {NAN: np.nan, INF: np.inf, NINF: -np.inf}[kind]
@@ -111,6 +140,12 @@ EV = dict(xbar=np.zeros(2), Sigma=P2, C=np.array([[1.0, 0.0], [1.0, 1.0]]), R=np
           delta=np.ones(2), gamma=np.array([1, 0]), y=np.ones(2))
 
 
+NL = nonlinear.NonlinearScenario()
+#: A likelihood call: sensor 0 sent (its z must be finite), sensor 1 was silent.
+LL = dict(sent=[True, False], z=[1.5, 0.0], hx=[1.0, 0.2], hx_pred=[0.8, 0.1], s=[2.0, 2.0],
+          r=[1.0, 1.0], eta=1.0)
+
+
 def _model(**kw):
     base = dict(A=0.9 * E2, Q=E2, C=[[1.0, 0.0]], R=[[1.0]], m0=[0.0, 1.0], P0=P2)
     return kalman.LinearGaussianModel(**{**base, **kw})
@@ -148,7 +183,7 @@ ENTRY_POINTS = [
     ("riccati.steady_state", riccati.steady_state, dict(A=0.9 * E2, Q=E2, C=E2, R=E2),
      dict(A=NUM, Q=COV, C=NUM, R=COV)),
     ("riccati.solve_psd", lambda S, B: riccati.solve_psd(np.asarray(S), np.asarray(B)),
-     dict(S=P2, B=np.ones((2, 1))), dict(S=NUM, B=NUM)),
+     dict(S=P2, B=np.ones((2, 1))), dict(S=NUM0, B=NUM0)),
     ("riccati.singular", riccati.singular, dict(R=P2), dict(R=NUM)),
     ("kalman.LinearGaussianModel", _model, {}, dict(A=NUM, Q=COV, C=NUM, R=COV, m0=NUM, P0=COV)),
     ("kalman.LinearGaussianModel.sample",
@@ -320,9 +355,55 @@ ENTRY_POINTS = [
          np.asarray(x, float), np.asarray(P, float), np.asarray(innov, float),
          np.asarray(C, float), np.asarray(R, float), 0.9 * E2, E2, check=True),
      dict(x=np.zeros((3, 2)), P=P2, innov=np.ones((3, 1)), C=[[1.0, 0.0]], R=[[1.0]]),
-     dict(P=COV, R=COV)),
+     dict(P=COV0, R=COV0)),
     ("models.wna_model", models.wna_model, dict(dt=1.0), dict(dt=VAR)),
     ("synthesis.kf_filter", _kf_filter, {}, dict(z=NUM, xi=NUM, delta=VAR)),
+    # issue 29: shapes of the Kalman step and the Riccati step, named with the expected shape
+    ("kalman.kalman_step(shapes)",
+     lambda x, innov, A, Q: kalman.kalman_step(
+         np.asarray(x), P2, np.asarray(innov), np.array([[1.0, 0.0]]), np.eye(1),
+         np.asarray(A), np.asarray(Q), check=True),
+     dict(x=np.zeros((3, 2)), innov=np.ones((3, 1)), A=0.9 * E2, Q=E2),
+     dict(x=(SHAPE,), innov=(SHAPE,), A=(SHAPE,), Q=(SHAPE,))),
+    ("riccati.riccati_step(shapes)",
+     lambda A, Q: riccati.riccati_step(P2, A, Q, [[1.0, 0.0]], [[1.0]]),
+     dict(A=0.9 * E2, Q=E2), dict(A=(SHAPE,), Q=(SHAPE,))),
+    # the nonlinear censoring (zheng2014 Section VI) and its likelihoods
+    ("censoring.nonlinear.log_silent_probability", nonlinear.log_silent_probability,
+     dict(m=[0.5, -1.0], h=[1.0, 2.0]), dict(m=NUM + (SHAPE,), h=(NAN, NEG, TEXT, SHAPE))),
+    ("censoring.nonlinear.amplitude", lambda pos: nonlinear.amplitude(NL, pos),
+     dict(pos=[1.0, -2.0]), dict(pos=(NAN, TEXT, SHAPE))),
+    ("censoring.nonlinear.jacobian", lambda x: nonlinear.jacobian(NL, x),
+     dict(x=[1.0, 0.5, -2.0, 0.1]), dict(x=NUM + (SHAPE,))),
+    ("censoring.nonlinear.ekf_covariance_step", nonlinear.ekf_covariance_step,
+     dict(P=np.eye(4), g=[0.5, 0.0, -0.2, 0.0], F=np.eye(4), Q=np.eye(4), r=1.0),
+     dict(P=COV + (SHAPE,), g=NUM + (SHAPE,), F=NUM + (SHAPE,), Q=COV + (SHAPE,), r=VAR)),
+    ("censoring.nonlinear.silent_terms", nonlinear.silent_terms,
+     dict(a=np.array([[0.0, 0.5, 1.0]]), h=np.array([1.5])), dict(a=VAR, h=VAR + (SHAPE,))),
+    ("censoring.nonlinear.log_likelihood", nonlinear.log_likelihood, LL,
+     dict(z=(NAN, INF, TEXT, SHAPE), hx=NUM, hx_pred=NUM, s=VAR, r=VAR, eta=VAR)),
+    ("censoring.log_likelihood_feedback", censoring.log_likelihood_feedback, LL,
+     dict(z=(NAN, INF, TEXT, SHAPE), hx=NUM, hx_pred=NUM, s=VAR, r=VAR, eta=VAR)),
+    # the censoring probabilities (checked entry points of the filters' kernels)
+    ("censoring.probability.log_prob_inside", cprob.log_prob_inside,
+     dict(m=[0.5, -1.0], h=[1.0, 2.0]), dict(m=NUM + (SHAPE,), h=(NAN, NEG, TEXT))),
+    ("censoring.probability.prob_inside", lambda m, h: cprob.prob_inside(m, h, log=False),
+     dict(m=[0.5, -1.0], h=[1.0, 2.0]), dict(m=NUM, h=(NAN, NEG, TEXT))),
+    ("censoring.probability.truncated_normal", cprob.truncated_normal,
+     dict(u=[0.2, 0.7], lo=[-1.0, 0.5], hi=[1.0, 3.0]), dict(u=VAR, lo=(NAN, TEXT))),
+    ("censoring.probability.log_silent_constant", cprob.log_silent_constant,
+     dict(Vcov=P2, a=[1.0, 2.0]), dict(Vcov=COV, a=VAR)),
+    ("censoring.probability.log_region_probability", cprob.log_region_probability,
+     dict(c=[0.5, -0.5], cov=P2, a=[1.0, 2.0], outside=(True, False)),
+     dict(c=NUM, cov=COV, a=VAR)),
+    # the particle helpers: ancestor indices and weighted statistics
+    ("particle.resample", lambda x, idx: particle.resample(x, idx),
+     dict(x=np.arange(12.0).reshape(2, 3, 2), idx=np.array([[0, 2, 2], [1, 1, 0]])),
+     dict(idx=IDX)),
+    ("particle.weighted_mean", particle.weighted_mean,
+     dict(x=np.arange(6.0).reshape(3, 2), logw=[0.0, -1.0, -2.0]), dict(x=NUM, logw=(SHAPE,))),
+    ("particle.weighted_mean_cov", particle.weighted_mean_cov,
+     dict(x=np.arange(6.0).reshape(3, 2), logw=[0.0, -1.0, -2.0]), dict(x=NUM, logw=(SHAPE,))),
 ]
 
 #: Public names deliberately not in the table: constants, result containers, and what other
@@ -366,6 +447,11 @@ _CASES = [(name, arg, kind) for name, _, _, bad in ENTRY_POINTS for arg, kinds i
           if not (kind == ASYM and np.shape(_good_args(name)[1][arg])[-1:] == (1,))]
 
 
+#: Entry points whose measurement argument is checked only where a sensor sent (the first).
+_SENT_FIRST = {("event.posterior", "y"), ("censoring.nonlinear.log_likelihood", "z"),
+               ("censoring.log_likelihood_feedback", "z")}
+
+
 def test_every_public_function_is_covered():
     names = {e[0] for e in ENTRY_POINTS}
     for mod in (riccati, kalman, models, fading, power, event, synthesis):
@@ -391,7 +477,7 @@ def test_every_public_function_is_covered():
 def test_invalid_input_raises_value_error_naming_the_argument(case, where, size):
     name, arg, kind = case
     fn, good = _good_args(name)
-    if (name, arg) == ("event.posterior", "y"):
+    if (name, arg) in _SENT_FIRST:
         where = 0  # y of a silent sensor (gamma = 0) is ignored and may be NaN (documented)
     EXAMPLES["invalid"] += 1
     args = {**good, arg: _bad(kind, good[arg], where, size)}
@@ -428,6 +514,12 @@ def _spd(seed, n, rank=None):
     rng = RNG(seed)
     M = rng.standard_normal((n, rank or n))
     return M @ M.T + (0.0 if rank else 1e-3) * np.eye(n)
+
+
+def _psd_draw(S, rng):
+    """A draw of ``N(0, S)`` for a PSD (possibly singular) ``S``."""
+    w, V = np.linalg.eigh(S)
+    return V @ (np.sqrt(np.clip(w, 0.0, None)) * rng.standard_normal(len(w)))
 
 
 def _is_psd(M, rtol=1e-9, scale=None):
@@ -607,9 +699,62 @@ def test_event_posterior_and_rates_invariants(seed, n, m, rank, zero_r):
     rate = event.communication_rate(Sigma, C, r, delta)
     assert np.all((rate >= 0) & (rate <= 1))
     gamma = rng.random(m) < 0.5
-    y = rng.standard_normal(m)
+    # y drawn from the model: with noise-free sensors an arbitrary y may contradict it (more
+    # sensors than states, or a singular Sigma), and posterior then refuses it (issue 29)
+    x = _psd_draw(Sigma, rng)
+    y = C @ x + np.sqrt(r) * rng.standard_normal(m)
     xhat, P = event.posterior(np.zeros(n), Sigma, C, r, delta, gamma, y)
     assert np.all(np.isfinite(xhat)) and _is_psd(P, 1e-7, np.abs(Sigma).max())
     assert np.linalg.eigvalsh(Sigma - P).min() >= -1e-7 * np.abs(Sigma).max()
 
 
+
+
+# ================================================= issue 29: singular innovation covariances
+@SETTINGS
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3), m=st.integers(1, 3),
+       off=st.one_of(fl(-1e3, -1e-3), fl(1e-3, 1e3)))
+def test_noise_free_measurement_of_a_known_state_must_match_it(seed, n, m, off):
+    """R = 0 and Sigma = 0: a sent y_i must equal c_i xbar; otherwise ValueError naming y (it
+    returned numbers). The Kalman step of the same numbers refuses the innovation."""
+    EXAMPLES["event"] += 1
+    rng = RNG(seed)
+    C = rng.standard_normal((m, n))
+    C[0, 0] += 1.0 + np.abs(C[0]).sum()  # a measurement row that is not zero
+    xbar = rng.standard_normal(n)
+    y = C @ xbar
+    gamma = np.ones(m, dtype=bool)
+    xhat, P = event.posterior(xbar, np.zeros((n, n)), C, np.zeros(m), 1.0, gamma, y)
+    np.testing.assert_allclose(xhat, xbar, rtol=1e-12, atol=1e-12)
+    np.testing.assert_array_equal(P, 0.0)
+    y[0] += off
+    with pytest.raises(ValueError, match="^y contradicts the model"):
+        event.posterior(xbar, np.zeros((n, n)), C, np.zeros(m), 1.0, gamma, y)
+    with pytest.raises(ValueError, match="^innov contradicts the model"):
+        kalman.kalman_step(xbar[None], np.zeros((n, n)), (y - C @ xbar)[None], C,
+                           np.zeros((m, m)), np.eye(n), np.eye(n))
+
+
+@SETTINGS
+@given(seed=st.integers(0, 2**32 - 1), r=var0, zero_g=st.booleans())
+def test_ekf_covariance_step_is_psd_and_never_above_the_prediction(seed, r, zero_g):
+    """Including s = 0 (r = 0 and a zero gradient: no information, P_upd = P_pred)."""
+    EXAMPLES["nonlinear"] += 1
+    rng = RNG(seed)
+    P, Q = _spd(seed, 4), _spd(seed + 1, 4)
+    g = np.zeros(4) if zero_g else rng.standard_normal(4)
+    Pp, s, Pu = nonlinear.ekf_covariance_step(P, g, np.eye(4) + 0.1 * np.eye(4, k=1), Q, r)
+    assert np.isfinite(s) and s >= 0
+    assert np.all(np.isfinite(Pu)) and _is_psd(Pu, 1e-7, np.abs(Pp).max())
+    assert np.linalg.eigvalsh(Pp - Pu).min() >= -1e-7 * np.abs(Pp).max()
+    if s == 0:
+        np.testing.assert_array_equal(Pu, 0.5 * (Pp + Pp.T))
+
+
+@SETTINGS
+@given(m=fl(-40, 40), h=st.one_of(st.just(0.0), fl(1e-6, 50), st.just(np.inf)))
+def test_log_silent_probability_is_a_log_probability(m, h):
+    EXAMPLES["nonlinear"] += 1
+    v = float(nonlinear.log_silent_probability(m, h))
+    assert v <= 0.0 and not np.isnan(v)
+    assert (v == -np.inf) == (h == 0.0)

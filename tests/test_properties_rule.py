@@ -10,6 +10,7 @@ closed form of the limit.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -293,3 +294,187 @@ def test_registry_seed_accepts_numpy_integers_and_rejects_bool():
         entry.run_compute("fast", True)
     with pytest.raises(ValueError, match="^seed must be a non-negative integer"):
         entry.run_compute("fast", np.int64(-1))
+
+
+# =================================================== issue 29: the classes still silent or refused
+def test_singular_innovation_covariance_contradicting_measurement_is_refused():
+    """P = 0 and R = 0 along a measured direction: the measurement must equal its prediction
+    there (it returned numbers whatever it was); a consistent one still gives the posterior."""
+    C, x = np.array([[1.0, 0.0]]), np.zeros((1, 2))
+    for P in (np.zeros((2, 2)), np.zeros((1, 2, 2))):  # shared and per-trial arithmetic
+        with pytest.raises(ValueError, match="^innov contradicts the model"):
+            kalman.kalman_step(x, P, np.ones((1, 1)), C, np.zeros((1, 1)), np.eye(2), np.eye(2))
+        ok = kalman.kalman_step(x, P, np.zeros((1, 1)), C, np.zeros((1, 1)), np.eye(2),
+                                np.eye(2))
+        np.testing.assert_array_equal(ok.x_post, 0.0)
+    with pytest.raises(ValueError, match="^y at step 0 contradicts the model"):
+        models.tracking_model(1, r=0.0).filter(np.full((1, 2, 1), 5.0))  # x0 = 0 is known
+    # event.posterior with R = 0: Sigma = 0, and Sigma of rank one measured off its range
+    for Sigma in (np.zeros((2, 2)), np.diag([1.0, 0.0])):
+        with pytest.raises(ValueError, match="^y contradicts the model"):
+            event.posterior(np.zeros(2), Sigma, np.eye(2), [0.0, 0.0], 1.0, [1, 1], [1.0, 1.0])
+    xhat, P = event.posterior(np.zeros(2), np.diag([1.0, 0.0]), np.eye(2), [0.0, 0.0], 1.0,
+                              [1, 1], [0.7, 0.0])
+    np.testing.assert_allclose(xhat, [0.7, 0.0], atol=1e-15)
+    np.testing.assert_allclose(P, 0.0, atol=1e-15)
+    # merely ill-conditioned (a huge delta beside a small r) is not singular: accepted
+    xhat, _ = event.posterior(np.zeros(2), np.eye(2), np.eye(2), [0.5, 0.5], 1e12, [1, 0],
+                              [3.0, np.nan])
+    assert xhat[0] == pytest.approx(3.0 / 1.5) and xhat[1] == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: models.tracking_model(2, dt="1"), "dt"),
+    (lambda: models.tracking_model(2, sigma2="4"), "sigma2"),
+    (lambda: models.tracking_model(2, r="1"), "r"),
+    (lambda: models.wna_model("1"), "dt"),
+    (lambda: kalman.constant_velocity(dt="1"), "dt"),
+    (lambda: kalman.constant_velocity(q=["1"]), "q"),
+    (lambda: fading.Rayleigh("1"), "lam"),
+    (lambda: riccati.scalar_update(np.array(["1"]), 1.0, 1.0), "p"),
+])
+def test_numbers_written_as_text_are_refused(call, name):
+    """NumPy turns "1" into 1.0: the validators refuse text instead (issue 29)."""
+    with pytest.raises(ValueError, match=f"^{name} must be"):
+        call()
+
+
+def test_nonlinear_censoring_refuses_nan_and_negative_thresholds():
+    from fusioncenter.censoring import nonlinear as nl
+
+    for h in (-1.0, NAN):  # it returned NaN (and a RuntimeWarning)
+        with pytest.raises(ValueError, match="^h must be a non-negative half-width"):
+            nl.log_silent_probability(0.0, h)
+    with pytest.raises(ValueError, match="^m must be finite"):
+        nl.log_silent_probability(NAN, 1.0)
+    assert nl.log_silent_probability(0.0, np.inf) == 0.0  # the whole line: probability 1
+    assert nl.log_silent_probability(0.0, 0.0) == -np.inf  # an empty interval
+    sc = nl.NonlinearScenario()
+    with pytest.raises(ValueError, match="^pos must not be NaN"):
+        nl.amplitude(sc, [NAN, 0.0])
+    np.testing.assert_array_equal(nl.amplitude(sc, [np.inf, 0.0]), 0.0)  # infinitely far
+    with pytest.raises(ValueError, match="^x must be finite"):
+        nl.jacobian(sc, [NAN, 0.0, 0.0, 0.0])
+
+
+def test_ekf_covariance_step_zero_information_and_its_arguments():
+    from fusioncenter.censoring import nonlinear as nl
+
+    P, F, Q = np.diag([1.0, 2.0, 3.0, 4.0]), np.eye(4), 0.5 * np.eye(4)
+    # r = 0 and a zero gradient: s = 0, no information, P_upd = P_pred (it returned NaN)
+    Pp, s, Pu = nl.ekf_covariance_step(P, np.zeros(4), F, Q, 0.0)
+    assert s == 0.0
+    np.testing.assert_array_equal(Pu, Pp)
+    np.testing.assert_array_equal(Pp, P + Q)
+    # s > 0 is the Joseph form as before, bit for bit (the filters call the same kernel)
+    from fusioncenter.censoring.nonlinear_model import _ekf_step
+    g = np.array([0.3, 0.0, -0.2, 0.0])
+    for got, want in zip(nl.ekf_covariance_step(P, g, F, Q, 1.0), _ekf_step(P, g, F, Q, 1.0),
+                         strict=True):
+        np.testing.assert_array_equal(got, want)
+    for kw, match in ((dict(r=-1.0), "^r must be non-negative"), (dict(r=NAN), "^r must be"),
+                      (dict(g=np.ones(3)), r"^g must have shape \(\.\.\., 4\)"),
+                      (dict(F=np.eye(3)), r"^F must have shape \(4, 4\)"),
+                      (dict(P=P + np.triu(np.ones((4, 4)), 1)), "^P must be symmetric")):
+        args = dict(P=P, g=g, F=F, Q=Q, r=1.0) | kw
+        with pytest.raises(ValueError, match=match):
+            nl.ekf_covariance_step(**args)
+
+
+def test_likelihoods_refuse_a_nan_measurement_where_a_sensor_sent():
+    from fusioncenter import censoring
+    from fusioncenter.censoring import nonlinear as nl
+    from fusioncenter.censoring import vector_likelihood as vl
+
+    args = dict(hx=[0.0, 0.0], hx_pred=[0.0, 0.0], s=[1.0, 1.0], r=[1.0, 1.0], eta=1.0)
+    for f in (censoring.log_likelihood_feedback, nl.log_likelihood):
+        with pytest.raises(ValueError, match="^z must be finite where a sensor sent"):
+            f(sent=[True, False], z=[NAN, 0.0], **args)
+        # a silent sensor's z is ignored, NaN included
+        assert np.isfinite(f(sent=[False, False], z=[NAN, NAN], **args))
+        with pytest.raises(ValueError, match="^sent and z must have shapes that broadcast"):
+            f(sent=[True, True], z=[0.0, 0.0, 0.0], **args)
+    with pytest.raises(ValueError, match="^z must be finite where a sensor sent"):
+        vl.log_likelihood_feedback([True], [[NAN, 0.0]], np.zeros((1, 2)), np.zeros((1, 2)),
+                                   np.eye(2)[None], np.eye(2)[None], 1.0)
+
+
+def test_resample_refuses_ancestors_out_of_range():
+    x = np.arange(6.0).reshape(3, 2)
+    for idx, match in (([0, 5, 1], r"^idx must lie in \[0, 3\)"),  # was IndexError
+                       ([0, -1, 1], r"^idx must lie in \[0, 3\)"),  # was wrapped around
+                       ([0.0, 1.0, 1.0], "^idx must be an integer array"),
+                       (np.zeros((2, 3), int), r"^idx must have shape \(")):
+        with pytest.raises(ValueError, match=match):
+            particle.resample(x, np.asarray(idx))
+    np.testing.assert_array_equal(particle.resample(x, np.array([2, 0])), x[[2, 0]])
+    with pytest.raises(ValueError, match=r"^x must have shape \(4, 'd'\)"):
+        particle.weighted_mean(x, np.zeros(4))  # was NumPy's matmul message
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: riccati.riccati_step(np.eye(2), np.eye(3), np.eye(2), [[1.0, 0.0]], [[1.0]]),
+     r"^A must be 2x2 \(P is 2x2\)"),
+    (lambda: riccati.riccati_step(np.eye(2), np.eye(2), np.eye(3), [[1.0, 0.0]], [[1.0]]),
+     r"^Q must be 2x2 \(P is 2x2\)"),
+    (lambda: kalman.kalman_step(np.zeros((3, 2)), np.eye(2), np.ones((3, 2)),
+                                np.array([[1.0, 0.0]]), np.eye(1), np.eye(2), np.eye(2)),
+     r"^innov must have shape \(\.\.\., 1\) \(C has 1 rows\)"),
+    (lambda: kalman.kalman_step(np.zeros((3, 3)), np.eye(2), np.ones((3, 1)),
+                                np.array([[1.0, 0.0]]), np.eye(1), np.eye(2), np.eye(2)),
+     r"^x must have shape \(\.\.\., 2\)"),
+    (lambda: __import__("fusioncenter.censoring.vector", fromlist=["x"]).silent_covariance(
+        __import__("fusioncenter.censoring.vector", fromlist=["x"]).VectorScenario(),
+        np.eye(3)), r"^Sigma must be 4x4"),
+])
+def test_shape_errors_name_the_argument_and_the_expected_shape(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_extreme_steady_state_is_a_documented_refusal_naming_a():
+    # the steady state of a = 1e300 is about a^2 r / c^2 = 1e600: no float; a documented refusal
+    # naming a (it said "an input is too large")
+    with pytest.raises(ValueError, match="^a .*beyond the float range"):
+        riccati.scalar_steady_state(1e300, 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"^a \(with sigma_w2, S\).*beyond the float range"):
+        power.steady_state(1e300, 1.0, 2.0)
+    assert riccati.scalar_steady_state(1e150, 0.0, 1.0, 1.0) == pytest.approx(1e300, rel=1e-12)
+
+
+def test_extreme_power_budget_multi_access():
+    # a huge power budget, multi-access: w^2 underflowed and it said "rho must be non-zero"
+    h, c, sv = np.ones(2), np.ones(2), np.ones(2)
+    alpha = power.min_error("multi-access", 1e300, 0.5, 1.0, h, c, sv, 1.0)
+    assert power.transmit_power(alpha, 0.5, 1.0, c, sv).sum() == pytest.approx(1e300, rel=1e-12)
+    np.testing.assert_allclose(alpha, power.min_error("orthogonal", 1e300, 0.5, 1.0, h, c, sv,
+                                                      1.0), rtol=1e-12)
+
+
+def test_extreme_event_rates():
+    # a tiny target rate with a non-zero mean: ZeroDivisionError before; rate ~ (s + mu^2) / 2d
+    d = event.delta_for_rate(1e-300, 1.0, 3.0)
+    assert d == pytest.approx(10.0 / 2e-300, rel=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert event.trigger_probability(1e300, 1e-300) == 1.0  # no overflow warning
+    # steady_state_delta at rates where the Schur solver failed: the doubling algorithm
+    trk = models.tracking_model(2)
+    for rate in (1e-8, 1e-10):
+        delta = event.steady_state_delta(trk, rate)
+        assert np.all(np.isfinite(delta)) and np.all(delta > 0)
+    R = 1e12 * np.eye(2)
+    P = riccati.steady_state(trk.A, trk.Q, trk.C, R)
+    np.testing.assert_allclose(riccati.riccati_step(P, trk.A, trk.Q, trk.C, R), P, rtol=1e-9)
+
+
+def test_zero_samples_give_empty_results():
+    trk = models.tracking_model(2)
+    x, y = trk.sample(np.random.default_rng(0), 0, 3)
+    assert x.shape == (0, 4, 2) and y.shape == (0, 4, 2)
+    out = event.event_kf_chunk(np.random.default_rng(0), 0, model=trk, steps=3,
+                               scheme="stochastic", delta=1.0)
+    assert out.shape == (0, 4, 8)
+    with pytest.raises(ValueError, match="^n must be >= 0"):
+        event.event_kf_chunk(np.random.default_rng(0), -1, model=trk, steps=3,
+                             scheme="stochastic", delta=1.0)

@@ -7,10 +7,13 @@ validator; covariances are checked symmetric and positive semi-definite (or defi
 relative tolerance. The validators never modify the values they accept (``covariance`` returns
 the input unchanged, not symmetrized), so accepting an input does not change any result bit.
 
+* ``is_text(value) -> bool``: text, or a sequence/array holding text (refused by every
+  numeric validator: NumPy would turn ``"1"`` into ``1.0``).
 * ``posint(name, value) -> int``: a positive integer (``bool`` rejected, NumPy integers
   accepted).
 * ``integer(name, value, minimum=0) -> int``: an integer ``>= minimum`` (``bool`` rejected).
-* ``finite(name, value) -> ndarray``: a float array with finite entries.
+* ``finite(name, value) -> ndarray``: a float array with finite entries (text such as ``"1"``
+  is rejected, not converted).
 * ``positive(name, value, what="a variance") -> ndarray``: finite and ``> 0``.
 * ``nonneg(name, value, what=None) -> ndarray``: finite and ``>= 0``.
 * ``one_of(name, value, options)``: ``value`` must be one of ``options``.
@@ -19,6 +22,16 @@ the input unchanged, not symmetrized), so accepting an input does not change any
 * ``square(name, arr) -> ndarray``: a 2-D array must be square (a state transition ``A``).
 * ``finite_result(name, value, why) -> ndarray``: a computed result must be finite (raises
   ``ValueError`` saying why it is not: an overflow the inputs caused).
+* ``shape_is(name, arr, shape, what)``: ``arr.shape`` must equal ``shape`` (``None`` entries
+  free); the message states the expected shape.
+* ``broadcast(**arrays)``: broadcast arrays together, or raise ``ValueError`` naming them and
+  their shapes (instead of NumPy's message).
+* ``received(sent, z, name="z") -> (sent, z)``: measurements that must be finite where a
+  sensor sent (ignored, and may be NaN, elsewhere).
+* ``consistent(name, S, rhs, scale)``: a measurement must lie in the range of its singular
+  innovation covariance ``S`` (up to 40 standard deviations along its near-zero directions),
+  otherwise it contradicts the model (a noise-free sensor measuring a direction the prior
+  already knows, differently).
 
 ``what`` is the reason stated in the message, e.g. ``"x must be positive (a variance), got 0"``.
 """
@@ -29,8 +42,9 @@ import numpy as np
 
 from fusioncenter._docstrings import Glossary
 
-__all__ = ["posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
-           "square", "finite_result", "SYMMETRY_RTOL", "PSD_RTOL"]
+__all__ = ["is_text", "posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
+           "square", "finite_result", "shape_is", "broadcast", "received", "consistent",
+           "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
 
 #: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
 #: * max |M|`` entrywise.
@@ -39,6 +53,9 @@ SYMMETRY_RTOL = 1e-10
 #: must be ``>= -PSD_RTOL * max |M|`` (rounding in a computed covariance gives eigenvalues of
 #: order ``-1e-16 * max |M|``); for ``definite=True`` it must be ``> PSD_RTOL * max |M|``.
 PSD_RTOL = 1e-10
+#: Relative tolerance of :func:`consistent`: a measurement may leave the range of its singular
+#: innovation covariance by at most ``CONSISTENCY_RTOL`` times its scale (rounding only).
+CONSISTENCY_RTOL = 1e-8
 
 #: The arguments the validators share, by name.
 _doc = Glossary("""
@@ -74,7 +91,22 @@ def integer(name: str, value, minimum: int = 0) -> int:
     return int(value)
 
 
+def is_text(value) -> bool:
+    """Whether ``value`` is (or holds) text: NumPy would turn ``"1"`` into ``1.0`` silently."""
+    if isinstance(value, str | bytes):
+        return True
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "USO" and (value.dtype.kind != "O" or any(
+            isinstance(e, str | bytes) for e in value.flat))
+    if isinstance(value, list | tuple):
+        return any(is_text(e) for e in value)
+    return False
+
+
 def _as_float(name: str, value) -> np.ndarray:
+    if is_text(value):
+        raise ValueError(f"{name} must be a real number or array of them, not text, "
+                         f"got {value!r}")
     try:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -191,3 +223,163 @@ def finite_result(name: str, value, why: str) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} is not finite: {why}")
     return arr
+
+
+def shape_is(name: str, arr, shape: tuple, what: str = "") -> np.ndarray:
+    """``arr`` must have ``shape`` (``None`` entries free; a leading ``...`` allows batch axes).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    arr : numpy.ndarray
+        The (converted) argument.
+    shape : tuple
+        The expected shape: integers, ``None`` (any length) and an optional leading ``...``.
+    what : str
+        Why, quoted in the message (e.g. ``"P is 2x2"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``arr``, unchanged.
+
+    Raises
+    ------
+    ValueError
+        If the shape differs; the message states the expected shape.
+    """
+    got = np.shape(arr)
+    want = tuple(shape)
+    lead = bool(want) and want[0] is Ellipsis
+    tail = want[1:] if lead else want
+    ok = (len(got) >= len(tail)) if lead else (len(got) == len(tail))
+    if ok:
+        ok = all(w is None or g == w for g, w in zip(got[len(got) - len(tail):], tail,
+                                                      strict=True))
+    if not ok:
+        txt = ", ".join("..." if w is Ellipsis else ("k" if w is None else str(w)) for w in want)
+        why = f" ({what})" if what else ""
+        raise ValueError(f"{name} must have shape ({txt}){why}, got {got}")
+    return arr
+
+
+def broadcast(**arrays) -> list[np.ndarray]:
+    """Broadcast the named arrays together, or raise ``ValueError`` naming them and their shapes.
+
+    Parameters
+    ----------
+    **arrays : numpy.ndarray
+        The arrays, by argument name.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        ``numpy.broadcast_arrays`` of them, in order.
+
+    Raises
+    ------
+    ValueError
+        If the shapes do not broadcast (the message lists every argument's shape).
+    """
+    try:
+        return list(np.broadcast_arrays(*arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in arrays.items())
+        raise ValueError(f"{', '.join(arrays)} must have shapes that broadcast together, got "
+                         f"{shapes}") from None
+
+
+def consistent(name: str, S, rhs, scale, rcond: float = 1e-10) -> None:
+    """A measurement must lie in the range of its (singular) innovation covariance.
+
+    Along an eigenvector ``v`` of ``S`` whose eigenvalue ``lam`` counts as zero (``lam <= rcond
+    * max lam``, the pseudo-inverse's rule), the innovation ``v^T rhs`` is a
+    ``N(0, lam)`` draw; if it exceeds ``CONSISTENCY_RTOL * scale + 40 sqrt(max(lam, 4 eps
+    max lam))`` (eigenvalues are known to rounding only) the
+    measurement has a component along a direction in which it has (next to) no uncertainty
+    (``P = 0`` and ``R = 0`` there): the measured value contradicts the model, and no
+    posterior exists. A merely ill-conditioned ``S`` (one large noise variance beside a small
+    one) passes: its small directions are 40-sigma consistent.
+
+    Parameters
+    ----------
+    name : str
+        The measurement's (or innovation's) name, used in the message.
+    S : numpy.ndarray
+        ``(..., m, m)``, symmetric PSD.
+    rhs : numpy.ndarray
+        ``(..., m, k)``: the innovations.
+    scale : float
+        The magnitude of the measurement (e.g. ``max |y|``); at least 1 is used.
+    rcond : float
+        The pseudo-inverse's relative threshold.
+
+    Raises
+    ------
+    ValueError
+        If an innovation leaves the range of ``S`` by more than the tolerance.
+    """
+    S = np.asarray(S)
+    rhs = np.asarray(rhs)
+    if S.size == 0 or rhs.size == 0:
+        return
+    lam, V = np.linalg.eigh(S)
+    top = np.abs(lam).max(axis=-1, keepdims=True)
+    zero = lam <= rcond * top  # (..., m)
+    if not np.any(zero):
+        return
+    proj = np.abs(np.swapaxes(V, -1, -2) @ rhs)  # (..., m, k)
+    # an eigenvalue is known to about eps * max lam only: data drawn with a square root of a
+    # computed covariance carry sqrt(eps * max lam) along its null directions
+    floor = 4.0 * np.finfo(float).eps * top
+    lim = CONSISTENCY_RTOL * max(1.0, float(scale)) + 40.0 * np.sqrt(np.maximum(lam, floor))
+    bad = zero[..., None] & (proj > lim[..., None])
+    if np.any(bad):
+        worst = float(np.max(np.where(bad, proj, 0.0)))
+        raise ValueError(f"{name} contradicts the model: the innovation covariance is singular "
+                         f"(P = 0 and R = 0 along a measured direction) and the measurement "
+                         f"differs from its prediction there by {worst:.3g}; no posterior "
+                         f"exists")
+
+
+def received(sent, z, name: str = "z", *, axis_extra: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Who sent and what arrived: ``z`` must be finite where ``sent`` is true.
+
+    Parameters
+    ----------
+    sent : array_like
+        Booleans ``(..., N)`` (0/1 accepted).
+    z : array_like
+        Measurements ``(..., N)`` (with ``axis_extra`` trailing axes per sensor, e.g. ``m`` for
+        vector observations); ignored, and allowed to be NaN, where a sensor was silent.
+    name : str
+        The measurements' name, used in the message.
+    axis_extra : int
+        Number of trailing axes of ``z`` beyond those of ``sent``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``sent`` as bool and ``z`` as floats (unchanged).
+
+    Raises
+    ------
+    ValueError
+        If ``z`` is text, the shapes do not broadcast, or a sent entry is NaN or infinite.
+    """
+    sent = np.asarray(sent)
+    if sent.dtype.kind not in "biu" or (sent.dtype.kind != "b" and np.any((sent != 0)
+                                                                          & (sent != 1))):
+        raise ValueError(f"sent must hold booleans (or 0/1), got {sent!r}")
+    sent = sent.astype(bool)
+    z = _as_float(name, z)
+    mask = sent.reshape(sent.shape + (1,) * axis_extra)
+    try:
+        mask_b, z_b = np.broadcast_arrays(mask, z)
+    except ValueError:
+        raise ValueError(f"sent and {name} must have shapes that broadcast together, got sent "
+                         f"{sent.shape}, {name} {z.shape}") from None
+    if not np.all(np.isfinite(z_b[mask_b])):
+        raise ValueError(f"{name} must be finite where a sensor sent (a received measurement)")
+    return sent, z

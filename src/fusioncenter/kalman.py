@@ -121,7 +121,7 @@ class LinearGaussianModel:
         rng : numpy.random.Generator
             The source of randomness.
         n : int
-            Number of trajectories, ``>= 1``.
+            Number of trajectories, ``>= 0`` (``0``: empty arrays).
         steps : int
             Number of transitions, ``>= 0``.
 
@@ -137,7 +137,7 @@ class LinearGaussianModel:
         """
         if not isinstance(rng, np.random.Generator):
             raise ValueError(f"rng must be a numpy.random.Generator, got {rng!r}")
-        n = _v.posint("n", n)
+        n = _v.integer("n", n, 0)
         steps = _v.integer("steps", steps, 0)
         lq = _psd_factor(self.Q)
         lr = _psd_factor(self.R)
@@ -171,7 +171,8 @@ class LinearGaussianModel:
         Raises
         ------
         ValueError
-            If ``y`` is not finite or has the wrong shape.
+            If ``y`` is not finite or has the wrong shape, or (``R`` singular) if a noise-free
+            measurement contradicts what the filter knows exactly (no posterior exists).
         """
         y = _v.finite("y", y)
         if y.ndim != 3 or y.shape[2] != self.ny:
@@ -184,8 +185,17 @@ class LinearGaussianModel:
         r_singular = singular(self.R)
         for k in range(T1):
             innov = y[:, k] - m @ self.C.T
-            xhat[:, k], Ps[k], m, P = kalman_step(m, P, innov, self.C, self.R, self.A, self.Q,
-                                                  r_singular=r_singular, check=k == 0)
+            try:
+                xhat[:, k], Ps[k], m, P = _kalman_step(m, P, innov, self.C, self.R, self.A,
+                                                       self.Q, r_singular=r_singular,
+                                                       check=k == 0)
+            except ValueError as err:
+                if not str(err).startswith("innov contradicts"):
+                    raise
+                raise ValueError(f"y at step {k} contradicts the model: a noise-free sensor "
+                                 f"(R = 0) measures a direction the filter already knows "
+                                 f"exactly, and y differs from its prediction "
+                                 f"({str(err).split('prediction there by ')[1]}") from None
         return xhat, Ps
 
 
@@ -263,9 +273,21 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     Raises
     ------
     ValueError
-        If an argument is not finite or has the wrong shape; with ``check=True`` also if ``P``
-        or ``R`` is not symmetric PSD.
+        If an argument is not finite or has the wrong shape (the message names it and the
+        expected shape); with ``check=True`` also if ``P`` or ``R`` is not symmetric PSD; if
+        ``R`` is singular and an innovation has a component along a direction with ``S = C P
+        C^T + R`` zero (``P = 0`` and ``R = 0`` there: the measurement contradicts the model,
+        no posterior exists; a zero innovation there is fine).
     """
+    _step_shapes(x, P, innov, C, R, A, Q)
+    return _kalman_step(x, P, innov, C, R, A, Q, r_singular=r_singular, check=check)
+
+
+def _kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
+                 check: bool = False) -> KalmanStep:
+    """:func:`kalman_step` without the shape checks (the filters' per-step kernel: their shapes
+    are fixed at entry). The consistency check of a singular ``S`` stays (it costs nothing
+    unless ``R`` is singular)."""
     if r_singular is None:
         r_singular = singular(R)
     # the covariance update first: with check=True it validates P and R (naming them) before
@@ -274,14 +296,38 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     if P.ndim == 2 and np.ndim(C) == 2 and np.ndim(R) == 2:
         S = C @ P @ C.T + R
         K = solve_psd(S, C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
+        if r_singular:  # S may be singular: the innovations must lie in its range
+            _v.consistent("innov", S, innov.T, _scale(x, C, innov))
         x_post = x + innov @ K.T
         return KalmanStep(x_post, P_post, x_post @ A.T, A @ P_post @ A.T + Q)
     PCt = P @ np.swapaxes(C, -1, -2)  # (n, nx, m)
     S = C @ PCt + R
     w = solve_psd(S, innov[..., None], singular=r_singular)  # S^{-1} innov
+    if r_singular:
+        _v.consistent("innov", S, innov[..., None], _scale(x, C, innov))
     x_post = x + (PCt @ w)[..., 0]
     P_pred = A @ P_post @ A.T + Q
     return KalmanStep(x_post, P_post, x_post @ A.T, 0.5 * (P_pred + np.swapaxes(P_pred, -1, -2)))
+
+
+def _scale(x, C, innov) -> float:
+    """The magnitude of a step's measurements (the rounding scale of its innovations)."""
+    return float(np.abs(innov).max(initial=0.0) + np.abs(x).max(initial=0.0)
+                 * np.abs(C).max(initial=0.0))
+
+
+def _step_shapes(x, P, innov, C, R, A, Q) -> None:
+    """Shapes of :func:`kalman_step`'s arguments (cheap: no pass over the data)."""
+    nx = np.shape(P)[-1] if np.ndim(P) >= 2 else None
+    if nx is None or np.shape(P)[-2] != nx:
+        raise ValueError(f"P must be (nx, nx) or (n, nx, nx), got shape {np.shape(P)}")
+    _v.shape_is("A", A, (nx, nx), f"P is {nx}x{nx}")
+    _v.shape_is("Q", Q, (nx, nx), f"P is {nx}x{nx}")
+    _v.shape_is("C", C, (..., None, nx), f"P is {nx}x{nx}")
+    m = np.shape(C)[-1 - 1]
+    _v.shape_is("R", R, (..., m, m), f"C has {m} rows")
+    _v.shape_is("x", x, (..., nx), f"P is {nx}x{nx}")
+    _v.shape_is("innov", innov, (..., m), f"C has {m} rows")
 
 
 def _psd_factor(M: np.ndarray) -> np.ndarray:

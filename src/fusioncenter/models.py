@@ -44,7 +44,8 @@ def wna_model(dt: float) -> tuple[np.ndarray, np.ndarray]:
     ValueError
         If ``dt`` is not a positive finite number.
     """
-    if isinstance(dt, bool) or not np.isscalar(dt) or not np.isfinite(dt) or not dt > 0:
+    if (isinstance(dt, bool | str | bytes) or not np.isscalar(dt)
+            or not np.isfinite(_v.finite("dt", dt)) or not dt > 0):
         raise ValueError(f"dt must be a positive finite number, got {dt!r}")
     return (np.array([[1.0, dt], [0.0, 1.0]]),
             np.array([[dt**4 / 4, dt**3 / 2], [dt**3 / 2, dt**2]]))

@@ -58,6 +58,7 @@ from fusioncenter import _kernels, _ziggurat
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import is_text
 from fusioncenter._validate import square as _square
 
 __all__ = [
@@ -190,18 +191,50 @@ def systematic_resample(logw, u) -> np.ndarray:
     return idx.reshape(counts.shape)
 
 
-@_doc(returns=("numpy.ndarray", "The selected particles ``(..., P, d)``, a new array."), raises=())
+@_doc(returns=("numpy.ndarray", "The selected particles ``(..., K, d)``, a new array."),
+      raises=(("ValueError", "If ``x`` is not ``(..., P, d)``, ``idx`` is not an integer array "
+                             "whose leading axes\nmatch ``x``'s, or an index lies outside "
+                             "``[0, P)`` (negative indices are not\nwrapped around)."),))
 def resample(x, idx) -> np.ndarray:
     """Select particles row by row: ``out[..., j, :] = x[..., idx[..., j], :]``."""
     x = np.asarray(x)
     idx = np.asarray(idx)
+    if x.ndim < 2:
+        raise ValueError(f"x must be particles (..., P, d), got shape {x.shape}")
+    if idx.dtype.kind not in "iu":
+        raise ValueError(f"idx must be an integer array of ancestor indices, got dtype "
+                         f"{idx.dtype}")
+    if idx.ndim < 1 or idx.shape[:-1] != x.shape[:-2]:
+        raise ValueError(f"idx must have shape {(*x.shape[:-2], 'K')} (the leading axes of x "
+                         f"{x.shape}), got {idx.shape}")
+    P = x.shape[-2]
+    if idx.size and (idx.min() < 0 or idx.max() >= P):
+        raise ValueError(f"idx must lie in [0, {P}) (ancestor indices of {P} particles), got "
+                         f"values in [{idx.min()}, {idx.max()}]")
     return np.take_along_axis(x, idx[..., None], axis=-2)
+
+
+def _weighted_args(x, logw) -> np.ndarray:
+    """``x (..., P, d)`` finite and matching ``logw (..., P)`` (the weighted statistics)."""
+    x = _finite("x", x)
+    lw = tuple(np.shape(logw))
+    ok = x.ndim >= 2 and x.shape[-2] == lw[-1]
+    if ok:
+        try:
+            np.broadcast_shapes(x.shape[:-2], lw[:-1])
+        except ValueError:
+            ok = False
+    if not ok:
+        raise ValueError(f"x must have shape {(*lw, 'd')} (logw is {tuple(lw)}: (..., P)), got "
+                         f"{x.shape}")
+    return x
 
 
 @_doc(returns=("numpy.ndarray", "``(..., d)``."))
 def weighted_mean(x, logw) -> np.ndarray:
     """``sum_j w_j x_j`` per row: ``x (..., P, d)``, ``logw (..., P)`` -> ``(..., d)``."""
     lw, _ = log_normalize(logw)
+    x = _weighted_args(x, logw)
     w = np.exp(lw)
     return (w[..., None, :] @ x)[..., 0, :]
 
@@ -214,6 +247,7 @@ def weighted_mean_cov(x, logw) -> tuple[np.ndarray, np.ndarray]:
     The covariance is the plug-in (biased, normalized by ``sum w = 1``) estimate, symmetrized.
     """
     lw, _ = log_normalize(logw)
+    x = _weighted_args(x, logw)
     w = np.exp(lw)
     mean = (w[..., None, :] @ x)[..., 0, :]
     dev = x - mean[..., None, :]
@@ -282,7 +316,7 @@ def psd_factor(M, *, rtol: float = 1e-12) -> np.ndarray:
 
 
 def _matrix(name: str, value, shape=None) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
+    arr = np.asarray(value, dtype=float) if not is_text(value) else _finite(name, value)
     if arr.ndim != 2 or (shape is not None and arr.shape != shape):
         raise ValueError(f"{name} must be a matrix of shape {shape}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):

@@ -193,7 +193,10 @@ def scalar_steady_state(a, q, c, r):
     ValueError
         If an argument is NaN, infinite or (a variance) negative; if ``c = 0`` and
         ``|a| >= 1`` (no steady state: the prediction variance diverges); or if the result
-        overflows (``c`` non-zero but ``c^2 / r`` below the float range with ``|a| >= 1``).
+        overflows (``c`` non-zero but ``c^2 / r`` below the float range with ``|a| >= 1``), or
+        the steady state itself is beyond the float range (a documented limit: for ``|a| > 1``
+        it is about ``q + (a^2 - 1) r / c^2``, e.g. ``a = 1e300`` gives ``1e600``; the message
+        names ``a`` and gives the values).
     """
     a = _v.finite("a", a)
     q = _nonneg("q", q)
@@ -236,9 +239,18 @@ def scalar_steady_state(a, q, c, r):
             raise ValueError("no steady state: c = 0 (no information) and |a| >= 1: the "
                              "prediction variance diverges")
         p = np.where(c2 > 0, p, no_obs)
-    # anything else that is not finite is an overflow
-    _v.finite_result("the steady-state variance", p, "an input is too large")
+    # anything else that is not finite is an overflow: the answer is not a float
+    if not np.all(np.isfinite(p)):
+        raise ValueError(f"a (with q, c, r) gives a steady-state variance beyond the float range "
+                         f"(about q + (a^2 - 1) r / c^2 > 1.8e308 for |a| > 1): a = {_show(a)}, "
+                         f"q = {_show(q)}, c = {_show(c)}, r = {_show(r)}")
     return _out(p)
+
+
+def _show(x) -> str:
+    """A short text of a scalar or array argument for a message."""
+    x = np.asarray(x)
+    return f"{float(x):.3g}" if x.ndim == 0 else np.array2string(x, precision=3, threshold=6)
 
 
 # ---------------------------------------------------------------------------- matrix
@@ -300,8 +312,10 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
     where ``S`` is exactly singular. With ``singular=True`` (the noise covariance is singular,
     see :func:`singular`) it is the pseudo-inverse with eigenvalues below ``PINV_RCOND`` times
     the largest treated as zero: noise-free sensors measuring directions the prior already knows
-    up to rounding, the limit of the Kalman gain as ``R -> 0``. Only finiteness is checked (the
-    callers check their covariances).
+    up to rounding, the limit of the Kalman gain as ``R -> 0``. Where the diagonal of ``S``
+    spans more than ``1 / PINV_RCOND`` the rows and columns are first scaled to a unit diagonal,
+    so that a well-determined small direction is not taken for a zero one. Only finiteness is
+    checked (the callers check their covariances).
 
     Parameters
     ----------
@@ -326,11 +340,33 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
         raise ValueError("S and B must be finite (an innovation covariance and its right-hand "
                          "side)")
     if singular:
-        return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+        out = np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+        return _rescaled(S, B, out)
     try:
         return np.linalg.solve(S, B)
     except np.linalg.LinAlgError:
         return np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
+
+
+def _rescaled(S: np.ndarray, B: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """Redo the pseudo-inverse solve where the diagonal of ``S`` spans more than
+    ``1 / PINV_RCOND`` (e.g. a noise-free sensor beside a silent one with ``delta = 1e12``):
+    there the relative threshold would drop a direction that is well determined (a variance
+    of 1.5 beside 1e12) and ignore its measurement. The rows and columns are scaled to a unit
+    diagonal first (zero diagonal entries, directions known exactly, keep scale 1). Elsewhere
+    ``out`` is returned unchanged."""
+    d = np.diagonal(S, axis1=-2, axis2=-1)
+    pos = d > 0
+    big = np.where(pos, d, 0.0).max(axis=-1)
+    small = np.where(pos, d, np.inf).min(axis=-1)
+    wide = big > small / PINV_RCOND
+    if not np.any(wide):
+        return out
+    sc = 1.0 / np.sqrt(np.where(pos, d, 1.0))  # (..., m)
+    Ss = sc[..., :, None] * S * sc[..., None, :]
+    redo = sc[..., :, None] * (np.linalg.pinv(Ss, rcond=PINV_RCOND, hermitian=True)
+                               @ (sc[..., :, None] * B))
+    return np.where(wide[..., None, None], redo, out) if np.ndim(wide) else redo
 
 
 def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray, sing: bool | None = None) -> np.ndarray:
@@ -432,6 +468,11 @@ def riccati_step(P, A, Q, C, R, *, check: bool = True) -> np.ndarray:
     if not check:
         R = _v.covariance("R", R, batch=True)
     post = measurement_update(P, C, R, check=check)
+    n = post.shape[-1]
+    if A.shape[-1] != n or Q.shape[-1] != n:
+        bad = "A" if A.shape[-1] != n else "Q"
+        raise ValueError(f"{bad} must be {n}x{n} (P is {n}x{n}), got shape "
+                         f"{(A if bad == 'A' else Q).shape}")
     with np.errstate(over="ignore", invalid="ignore"):
         out = _sym(A @ post @ np.swapaxes(A, -1, -2) + Q)
     return _v.finite_result("P_{k+1|k}", out, "A P A^T overflows the float range")
@@ -484,10 +525,55 @@ def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) 
     return np.stack(np.broadcast_arrays(*out))
 
 
+def _doubling(A, Q, C, R, max_iter: int = 200) -> np.ndarray | None:
+    """The structured doubling algorithm for ``P = A P A^T - A P C^T (C P C^T + R)^{-1} C P A^T
+    + Q`` (Chu, Fan and Lin 2005); ``None`` if ``R`` is singular, it does not converge, or the
+    result is not a finite PSD fixed point (relative residual above ``1e-9``)."""
+    n = A.shape[0]
+    try:
+        G = C.T @ np.linalg.solve(R, C)
+    except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(G)):
+        return None
+    Ak, Gk, Hk = A.T.copy(), 0.5 * (G + G.T), Q.copy()
+    eye = np.eye(n)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for _ in range(max_iter):
+            W = eye + Gk @ Hk
+            try:
+                WA = np.linalg.solve(W, Ak)
+                WG = np.linalg.solve(W, Gk)
+            except np.linalg.LinAlgError:
+                return None
+            H_new = Hk + Ak.T @ Hk @ WA
+            Gk = Gk + Ak @ WG @ Ak.T
+            Ak = Ak @ WA
+            H_new = 0.5 * (H_new + H_new.T)
+            if not np.all(np.isfinite(H_new)):
+                return None
+            done = np.abs(H_new - Hk).max() <= 1e-15 * np.abs(H_new).max()
+            Hk = H_new
+            if done:
+                break
+        else:
+            return None
+        P = Hk
+        S = C @ P @ C.T + R
+        nxt = A @ P @ A.T - A @ P @ C.T @ np.linalg.solve(S, C @ P @ A.T) + Q
+    scale = np.abs(P).max()
+    if not (np.all(np.isfinite(nxt)) and np.abs(nxt - P).max() <= 1e-9 * max(scale, 1e-300)):
+        return None
+    return P
+
+
 def steady_state(A, Q, C, R) -> np.ndarray:
     """Stabilizing solution of the discrete algebraic Riccati equation (prediction form).
 
-    Uses :func:`scipy.linalg.solve_discrete_are` on the dual system ``(A^T, C^T)``; raises
+    Uses :func:`scipy.linalg.solve_discrete_are` on the dual system ``(A^T, C^T)``; where that
+    fails (closed-loop eigenvalues near the unit circle: very little information, e.g. a random
+    walk measured with noise variance ``1e12``) and ``R`` is non-singular, the structured
+    doubling algorithm, whose result must be a fixed point to ``1e-9`` relative. Raises
     ``ValueError`` when no stabilizing solution exists (e.g. (A, C) not detectable). ``R`` may
     be singular (noise-free sensors) when the solver finds the solution.
 
@@ -528,7 +614,13 @@ def steady_state(A, Q, C, R) -> np.ndarray:
     try:
         P = scipy.linalg.solve_discrete_are(A.T, C.T, Q, R)
     except (np.linalg.LinAlgError, ValueError) as exc:
-        raise ValueError(f"no stabilizing Riccati solution for these (A, Q, C, R): {exc}") from exc
+        # the Schur method fails where the closed loop has eigenvalues close to the unit circle
+        # (little information, e.g. r = 1e12 on a random walk): the doubling algorithm converges
+        # there (only for a non-singular R; the result is checked as a fixed point)
+        P = _doubling(A, Q, C, R)
+        if P is None:
+            raise ValueError(f"no stabilizing Riccati solution for these (A, Q, C, R): "
+                             f"{exc}") from exc
     P = _sym(P)
     try:
         _v.covariance("the Riccati solution", P)

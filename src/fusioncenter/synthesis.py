@@ -52,7 +52,7 @@ from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
 from fusioncenter.fading import Rayleigh
-from fusioncenter.kalman import LinearGaussianModel, kalman_step
+from fusioncenter.kalman import LinearGaussianModel, _kalman_step
 
 __all__ = [
     "KF_SCHEMES",
@@ -136,7 +136,7 @@ def _scenario(scenario) -> censoring.LinearScenario:
 
 def _outage(outage) -> float:
     try:
-        ok = not isinstance(outage, bool) and 0.0 <= float(outage) < 1.0
+        ok = not isinstance(outage, bool | str | bytes) and 0.0 <= float(outage) < 1.0
     except (TypeError, ValueError):
         ok = False
     if not ok:
@@ -151,7 +151,7 @@ def _receiver(receiver: str) -> str:
 
 
 def _per_sensor(name: str, value, N: int) -> np.ndarray:
-    arr = np.asarray(value, dtype=float)
+    arr = _finite(name, value)
     if arr.ndim == 0:
         arr = np.full(N, float(arr))
     if arr.shape != (N,) or not np.all(np.isfinite(arr)):
@@ -195,8 +195,8 @@ def energy_matched_outage(outage_full, rate):
     Per-packet power ``P / rate`` lowers the threshold to ``rate g_th``, so
     ``eps = 1 - exp(-lam rate g_th) = 1 - (1 - outage_full)^rate``. Broadcasts.
     """
-    eps = np.asarray(outage_full, dtype=float)
-    rate = np.asarray(rate, dtype=float)
+    eps = _finite("outage_full", outage_full)
+    rate = _finite("rate", rate)
     if np.any((eps < 0) | (eps >= 1)) or not np.all(np.isfinite(eps)):
         raise ValueError(f"outage_full must lie in [0, 1), got {outage_full!r}")
     if np.any((rate < 0) | (rate > 1)) or not np.all(np.isfinite(rate)):
@@ -354,7 +354,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         use = arrived | silent
         Ck = C * use[:, :, None]  # (n, N, 2): a dropped sensor is a zero row
         Rk = noise[:, :, None] * eye
-        xhat[:, t], Ps[:, t], xpred, Ppred = kalman_step(  # R_k = diag(noise)
+        xhat[:, t], Ps[:, t], xpred, Ppred = _kalman_step(  # R_k = diag(noise)
             xpred, Ppred, np.where(arrived, nu, 0.0), Ck, Rk, A, Q,
             r_singular=bool(np.any(noise == 0)))
         sent_all[:, t], arr_all[:, t] = sent, arrived
@@ -493,7 +493,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * censoring.probability.log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * censoring.probability._log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):

@@ -25,7 +25,8 @@ def check_eta(value) -> float:
     float
         ``eta`` as a float, finite and ``>= 0``.
     """
-    if isinstance(value, bool) or not np.isscalar(value) or not np.isfinite(value) or value < 0:
+    if (isinstance(value, bool | str | bytes) or not np.isscalar(value)
+            or not np.isfinite(value) or value < 0):
         raise ValueError(f"eta must be a finite non-negative number, got {value!r}")
     return float(value)
 

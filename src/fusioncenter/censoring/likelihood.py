@@ -8,14 +8,14 @@ import math
 
 import numpy as np
 
+from fusioncenter._validate import broadcast as _broadcast
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
-from fusioncenter.censoring.probability import (
-    log_region_probability,
-    log_silent_constant,
-    prob_inside,
-)
+from fusioncenter._validate import received as _received
+from fusioncenter.censoring.probability import _log_region_probability as log_region_probability
+from fusioncenter.censoring.probability import _log_silent_constant as log_silent_constant
+from fusioncenter.censoring.probability import _prob_inside as prob_inside
 
 
 # ----------------------------------------------------------------------------- likelihoods
@@ -67,13 +67,20 @@ def log_likelihood_feedback(sent, z, hx, hx_pred, s, r, eta):
     -------
     numpy.ndarray
         The log likelihood ``(...)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite (``z`` only where a sensor sent), negative,
+        or whose shape does not broadcast with the others.
     """
-    sent = np.asarray(sent, dtype=bool)
+    sent, z = _received(sent, z)
     hx = _finite("hx", hx)
+    hx_pred = _finite("hx_pred", hx_pred)
     r = _positive("r", r)
     s = _nonneg("s", s)
     eta = float(_nonneg("eta", eta))
-    z = np.asarray(z, dtype=float)
+    _broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
     recv = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, r), 0.0)
     sd = np.sqrt(r)
     with np.errstate(invalid="ignore"):
@@ -115,7 +122,7 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
     """
     if version not in ("corrected", "printed"):
         raise ValueError(f"version must be 'corrected' or 'printed', got {version!r}")
-    sent = np.asarray(sent, dtype=bool)
+    sent, z = _received(sent, z)
     hx = _finite("hx", hx)
     N = hx.shape[-1]
     r = np.broadcast_to(_positive("r", r), (N,))
@@ -126,8 +133,7 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
     if version == "corrected" and N > 2:
         raise ValueError(f"the corrected no-feedback likelihood is implemented for N <= 2 "
                          f"sensors (a bivariate normal probability), got N = {N}")
-    z = np.asarray(z, dtype=float)
-    sent, z, hx = np.broadcast_arrays(sent, z, hx)
+    sent, z, hx = _broadcast(sent=sent, z=z, hx=hx)
     recv = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, r), 0.0).sum(axis=-1)
     region = no_feedback_region(sent, z, hx[..., None, :], C, r, eta, version)[..., 0]
     return recv + region

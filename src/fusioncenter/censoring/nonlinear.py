@@ -54,16 +54,20 @@ import math
 import numpy as np
 
 from fusioncenter import _kernels, montecarlo, particle
+from fusioncenter import _validate as _v
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import fusion, results, scenarios
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.nonlinear_model import (
     NonlinearScenario,
-    amplitude,
-    ekf_covariance_step,
+    _amplitude,
+    _ekf_step,
+    _jacobian,
+    amplitude,  # noqa: F401 (re-exported)
+    ekf_covariance_step,  # noqa: F401 (re-exported)
     grid_positions,  # noqa: F401 (re-exported)
-    jacobian,
+    jacobian,  # noqa: F401 (re-exported)
     local_ekf,
 )
 from fusioncenter.censoring.nonlinear_model import amplitude_from_d2 as _amp_from_d2
@@ -95,10 +99,27 @@ def log_silent_probability(m, h):
     Returns
     -------
     numpy.ndarray
-        ``log P(|Z + m| < h)``, finite for any finite ``m`` and ``h > 0``.
+        ``log P(|Z + m| < h)``, finite for any finite ``m`` and ``h > 0``; ``-inf`` for
+        ``h = 0`` (an empty interval), ``0`` for ``h = +inf``.
+
+    Raises
+    ------
+    ValueError
+        If ``m`` is not finite, ``h`` is NaN or negative (a half-width), or the shapes do not
+        broadcast.
     """
+    m = _v.finite("m", m)
+    h = _v._as_float("h", h)
+    if np.any(np.isnan(h)) or np.any(h < 0):
+        raise ValueError(f"h must be a non-negative half-width (a threshold; +inf allowed), "
+                         f"got {h!r}")
+    return _log_silent(*_v.broadcast(m=m, h=h))
+
+
+def _log_silent(m, h):
+    """:func:`log_silent_probability` without checks (the filters' own calls)."""
     m, h = np.broadcast_arrays(np.asarray(m, dtype=float), np.asarray(h, dtype=float))
-    return cprob.log_prob_inside(m, h)
+    return cprob._log_prob_inside(m, h)
 
 
 def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
@@ -125,26 +146,28 @@ def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
     -------
     numpy.ndarray
         The log likelihood ``(...)``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite (``z`` only where a sensor sent), negative,
+        of non-matching shape, or an unknown ``scheme``.
     """
     if scheme not in ("cfwmd", "cfomd"):
         raise ValueError(f"scheme must be 'cfwmd' or 'cfomd', got {scheme!r}")
-    sent = np.asarray(sent, dtype=bool)
-    hx = np.asarray(hx, dtype=float)
-    r = np.asarray(r, dtype=float)
-    if np.any(r <= 0):
-        raise ValueError("r must be positive (a variance)")
-    s = np.asarray(s, dtype=float)
-    if np.any(s < 0):
-        raise ValueError("s must be non-negative")
-    if eta < 0:
-        raise ValueError(f"eta must be non-negative, got {eta!r}")
-    z = np.asarray(z, dtype=float)
+    sent, z = _v.received(sent, z)
+    hx = _v.finite("hx", hx)
+    hx_pred = _v.finite("hx_pred", hx_pred)
+    r = _v.positive("r", r)
+    s = _v.nonneg("s", s, "a variance")
+    eta = float(_v.nonneg("eta", eta, "a threshold"))
+    _v.broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
     recv = np.where(sent, -0.5 * np.log(2 * np.pi * r) - 0.5 * (np.where(sent, z, 0.0) - hx)
                     ** 2 / r, 0.0)
     out = recv.sum(axis=-1)
     if scheme == "cfwmd":
         sd = np.sqrt(r)
-        sil = log_silent_probability((hx - hx_pred) / sd, np.sqrt(eta * s) / sd)
+        sil = _log_silent((hx - hx_pred) / sd, np.sqrt(eta * s) / sd)
         out = out + np.where(sent, 0.0, sil).sum(axis=-1)
     return out
 
@@ -181,7 +204,16 @@ def silent_terms(a: np.ndarray, h: np.ndarray, step: float = SILENT_STEP) -> np.
     -------
     numpy.ndarray
         ``log P(|Z + a| < h)`` ``(rows, P)`` (error below 5e-10).
+
+    Raises
+    ------
+    ValueError
+        If ``a`` is not a finite non-negative ``(rows, P)`` array, ``h`` not finite
+        non-negative ``(rows,)``, or ``step`` not a positive number.
     """
+    a = _v.shape_is("a", _v.nonneg("a", a, "an offset |m|"), (None, None), "(rows, P)")
+    h = _v.shape_is("h", _v.nonneg("h", h, "a half-width"), (a.shape[0],), "one per row of a")
+    step = float(_v.positive("step", step, "a node spacing"))
     rows, P = a.shape
     out = np.array(a, dtype=float)
     if rows == 0:
@@ -200,7 +232,7 @@ def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray
     direct = J > max(64, P // 4)
     if direct.any():
         db, di = rb[direct], ri[direct]
-        a[db, di] = log_silent_probability(a[db, di], h[direct][:, None])
+        a[db, di] = _log_silent(a[db, di], h[direct][:, None])
     tab = np.flatnonzero(~direct)
     if tab.size == 0:
         return
@@ -210,7 +242,7 @@ def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray
     node = np.arange(owner.size) - off[owner]
     an = node * step
     hn = h[tab][owner]
-    g = log_silent_probability(an, hn)
+    g = _log_silent(an, hn)
     with np.errstate(over="ignore", under="ignore"):
         dg = (np.exp(-0.5 * (hn + an) ** 2 - _LOG_SQRT_2PI - g)
               - np.exp(-0.5 * (hn - an) ** 2 - _LOG_SQRT_2PI - g)) * step
@@ -265,13 +297,13 @@ class _FusionCentre(fusion.ReferenceFC):
         """Decisions at step ``k + 1`` from the broadcast ``xhat_{k|k}`` (and ``Phat_{k|k}``)."""
         sc = self.sc
         xp = self.est @ sc.F.T  # xhat_{k+1|k}, every sensor's prediction
-        g = jacobian(sc, xp)  # (n, N, 4)
+        g = _jacobian(sc, xp)  # (n, N, 4)
         if self.feedback == "state":
-            _, s, self.P_loc = ekf_covariance_step(self.P_loc, g, sc.F, sc.Q, self.r)
+            _, s, self.P_loc = _ekf_step(self.P_loc, g, sc.F, sc.Q, self.r)
         else:
             Pp = sc.F @ self.est_cov @ sc.F.T + sc.Q  # (n, 4, 4)
             s = np.einsum("nik,nkl,nil->ni", g, Pp, g) + self.r
-        self.hx_pred = amplitude(sc, xp[:, [0, 2]])  # (n, N)
+        self.hx_pred = _amplitude(sc, xp[:, [0, 2]])  # (n, N)
         nu = self.z[:, k] - self.hx_pred
         self.sent[:, k] = nu * nu >= self.eta * s
         self.s[:, k] = s

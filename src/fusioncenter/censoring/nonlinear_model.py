@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from fusioncenter import _validate as _v
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import scenarios
 
@@ -221,7 +222,7 @@ class NonlinearScenario(scenarios.Scenario):
         ``"random"``), then ``T`` transitions, then all measurement noises."""
         x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
-        z = amplitude(self, x[:, 1:, [0, 2]]) + noise
+        z = _amplitude(self, x[:, 1:, [0, 2]]) + noise
         return x, z
 
 
@@ -263,8 +264,22 @@ def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        ``h^i(pos)`` ``(..., N)``.
+        ``h^i(pos)`` ``(..., N)`` (``0`` at an infinite distance).
+
+    Raises
+    ------
+    ValueError
+        If ``pos`` is text, holds a NaN, or does not end in an axis of length 2.
     """
+    pos = _v._as_float("pos", pos)
+    if np.isnan(pos).any():
+        raise ValueError(f"pos must not be NaN (a position; +-inf is a target infinitely far "
+                         f"away, amplitude 0), got {pos!r}")
+    return _amplitude(scenario, pos)
+
+
+def _amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
+    """:func:`amplitude` without the NaN check (the filters' own calls)."""
     pos = np.asarray(pos, dtype=float)
     if pos.shape[-1:] != (2,):
         raise ValueError(f"pos must end in an (x, y) axis of length 2, got {pos.shape}")
@@ -291,7 +306,17 @@ def jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
     -------
     numpy.ndarray
         ``g^i`` ``(..., N, 4)``.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is not finite or does not end in an axis of length 4.
     """
+    return _jacobian(scenario, _v.finite("x", x))
+
+
+def _jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
+    """:func:`jacobian` without the finiteness check (the filters' own calls)."""
     x = np.asarray(x, dtype=float)
     if x.shape[-1:] != (4,):
         raise ValueError(f"x must end in a state axis of length 4, got {x.shape}")
@@ -332,8 +357,33 @@ def ekf_covariance_step(P, g, F, Q, r):
     Returns
     -------
     tuple of numpy.ndarray
-        ``(P_pred, s, P_upd)``.
+        ``(P_pred, s, P_upd)``. Where ``s = 0`` (``r = 0`` and ``g P_pred g^T = 0``: a
+        noise-free measurement of a direction already known, e.g. a zero gradient) the
+        measurement carries no information: the gain is 0 and ``P_upd = P_pred``.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite, not a covariance (``P``, ``Q``), negative
+        (``r``), or of the wrong shape (the message states the expected one).
     """
+    P = _v.covariance("P", P, batch=True)
+    d = P.shape[-1]
+    g = _v.shape_is("g", _v.finite("g", g), (..., d), f"P is {d}x{d}")
+    F = _v.shape_is("F", _v.finite("F", F), (d, d), f"P is {d}x{d}")
+    Q = _v.covariance("Q", Q, n=d)
+    r = _v.nonneg("r", r, "a noise variance")
+    _v.broadcast(P=P[..., 0, 0], g=g[..., 0], r=r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Pp, s, Pu = _ekf_step(P, g, F, Q, r)
+    known = s == 0
+    if np.any(known):  # no information: w = 0, P_upd = P_pred (symmetrized as the kernel does)
+        Pu = np.where(known[..., None, None], 0.5 * (Pp + np.swapaxes(Pp, -1, -2)), Pu)
+    return Pp, s, Pu
+
+
+def _ekf_step(P, g, F, Q, r):
+    """:func:`ekf_covariance_step` without checks (``s > 0``; the filters' own calls)."""
     Pp = F @ P @ F.T + Q
     Pg = (Pp @ g[..., None])[..., 0]  # (..., d)
     s = np.einsum("...k,...k->...", g, Pg) + r
@@ -365,7 +415,7 @@ def local_ekf(scenario: NonlinearScenario, z) -> dict[str, np.ndarray]:
         The arrays named above.
     """
     sc = scenario
-    z = np.asarray(z, dtype=float)
+    z = _v.finite("z", z)
     if z.ndim != 3 or z.shape[1:] != (sc.T, sc.N):
         raise ValueError(f"z must have shape (n, T, N) = (n, {sc.T}, {sc.N}), got {z.shape}")
     n, T, N = z.shape
@@ -378,9 +428,9 @@ def local_ekf(scenario: NonlinearScenario, z) -> dict[str, np.ndarray]:
     out.update({k: np.empty((n, T, N)) for k in ("s", "nu")})
     for t in range(T):
         xp = xh @ F.T
-        g = jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
-        Pp, s, P = ekf_covariance_step(P, g, F, Q, r)
-        nu = z[:, t] - amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
+        g = _jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
+        Pp, s, P = _ekf_step(P, g, F, Q, r)
+        nu = z[:, t] - _amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
         xh = xp + (Pp @ g[..., None])[..., 0] * (nu / s)[..., None]
         out["x_pred"][:, t], out["P_pred"][:, t], out["s"][:, t] = xp, Pp, s
         out["nu"][:, t], out["x_upd"][:, t], out["P_upd"][:, t] = nu, xh, P

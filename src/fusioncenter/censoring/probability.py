@@ -1,7 +1,7 @@
 """Probabilities of the censoring decisions (zheng2014 Propositions 1-3).
 
-``threshold`` (eq. (8)); ``prob_inside(m, h, log=...)``, the careful ``P(|Z + m| < h)``, and
-``log_prob_inside(m, h)``, its fast log for the particle filters (the one implementation the
+``threshold`` (eq. (8)); ``_prob_inside(m, h, log=...)``, the careful ``P(|Z + m| < h)``, and
+``_log_prob_inside(m, h)``, its fast log for the particle filters (the one implementation the
 scalar, nonlinear and lossy-link filters share, with one cut-off); the sensor-level
 ``censored_probability`` / ``log_censored_probability``; the bivariate normal CDF and rectangle
 probabilities; ``log_region_probability`` (the region of the corrected Proposition 3);
@@ -9,12 +9,14 @@ probabilities; ``log_region_probability`` (the region of the corrected Propositi
 
 from __future__ import annotations
 
+import inspect
 import math
 
 import numpy as np
 import scipy.stats
 from scipy import special
 
+from fusioncenter import _validate as _v
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
@@ -70,7 +72,7 @@ def _log1mexp(d):
         return np.where(d > -math.log(2.0), np.log(-np.expm1(d)), np.log1p(-np.exp(d)))
 
 
-def prob_inside(m, h, *, log: bool):
+def _prob_inside(m, h, *, log: bool):
     """``P(|Z + m| < h)`` (or its log) for ``Z ~ N(0, 1)``, ``h >= 0``; no validation.
 
     By symmetry only ``|m|`` matters. With ``lo = |m| - h`` and ``hi = |m| + h``:
@@ -153,7 +155,7 @@ def prob_inside(m, h, *, log: bool):
 INSIDE_CUTOFF = 1e-250
 
 
-def log_prob_inside(m, h):
+def _log_prob_inside(m, h):
     """``log P(|Z + m| < h)`` for ``Z ~ N(0, 1)``: the silent factor of every scalar filter.
 
     ``log(Phi(h - |m|) - Phi(-h - |m|))``: two ``ndtr`` calls (``Phi`` of a negative argument is
@@ -178,7 +180,7 @@ def log_prob_inside(m, h):
     m = np.abs(np.asarray(m, dtype=float))
     h = np.asarray(h, dtype=float)
     if m.ndim == 0 and h.ndim == 0:
-        return log_prob_inside(m[None], h[None])[0]
+        return _log_prob_inside(m[None], h[None])[0]
     p = special.ndtr(h - m)
     a = np.subtract(-h, m)
     p -= special.ndtr(a, out=a)
@@ -188,7 +190,7 @@ def log_prob_inside(m, h):
     with np.errstate(divide="ignore"):
         out = np.log(p, out=p)
     if bad.any():
-        out[bad] = prob_inside(np.broadcast_to(m, p.shape)[bad], np.broadcast_to(h, p.shape)[bad],
+        out[bad] = _prob_inside(np.broadcast_to(m, p.shape)[bad], np.broadcast_to(h, p.shape)[bad],
                                log=True)
     return out
 
@@ -229,7 +231,7 @@ def censored_probability(mu, s, r, eta):
         The probabilities, in ``[0, 1]``.
     """
     m, h = _censored_args(mu, s, r, eta)
-    out = prob_inside(m, h, log=False)
+    out = _prob_inside(m, h, log=False)
     return out[()] if out.ndim == 0 else out
 
 
@@ -260,7 +262,7 @@ def log_censored_probability(mu, s, r, eta):
         The log probabilities (``<= 0``).
     """
     m, h = _censored_args(mu, s, r, eta)
-    out = prob_inside(m, h, log=True)
+    out = _prob_inside(m, h, log=True)
     return out[()] if out.ndim == 0 else out
 
 
@@ -388,7 +390,7 @@ def _log_interval(A, B):
     hi_only = ~np.isfinite(A) & np.isfinite(B)
     if both.any():
         c, h = 0.5 * (A[both] + B[both]), 0.5 * (B[both] - A[both])
-        out[both] = prob_inside(-c, np.maximum(h, 0.0), log=True)
+        out[both] = _prob_inside(-c, np.maximum(h, 0.0), log=True)
     if lo_only.any():
         out[lo_only] = special.log_ndtr(-A[lo_only])
     if hi_only.any():
@@ -487,7 +489,7 @@ def _rectangle(l1, u1, l2, u2, rho):
     return fast, careful, np.minimum(logs, 0.0)
 
 
-def log_inside_degenerate(mean, cov, eta):
+def _log_inside_degenerate(mean, cov, eta):
     """``log P(q^T q < eta)`` for ``q ~ N(mean, cov)`` with a singular ``cov`` (rank 0 or 1).
 
     With ``cov = lam v v^T`` (``lam >= 0`` its largest eigenvalue) ``q = mean + sqrt(lam) v z``,
@@ -518,12 +520,12 @@ def log_inside_degenerate(mean, cov, eta):
     out = np.full(mean.shape[0], -np.inf)
     line = (lam1 > 0) & (rest > 0)
     sd = np.sqrt(lam1[line])
-    out[line] = log_prob_inside(w[line] / sd, np.sqrt(rest[line]) / sd)
+    out[line] = _log_prob_inside(w[line] / sd, np.sqrt(rest[line]) / sd)
     out[(lam1 == 0) & (rest > 0)] = 0.0  # a point mass inside the disc
     return out
 
 
-def log_region_probability(c, cov, a, outside):
+def _log_region_probability(c, cov, a, outside):
     """``log P(region)`` for a bivariate (or univariate) Gaussian with means ``c (..., K)``.
 
     Component ``i`` must satisfy ``|W_i| >= a_i`` if ``outside[i]`` else ``|W_i| < a_i``;
@@ -552,13 +554,13 @@ def log_region_probability(c, cov, a, outside):
     sd = np.sqrt(np.diag(cov))
     if K == 1:
         m, h = c[..., 0] / sd[0], a[0] / sd[0]
-        return _log_outside(m, h) if outside[0] else prob_inside(m, h, log=True)
+        return _log_outside(m, h) if outside[0] else _prob_inside(m, h, log=True)
     rho = float(np.clip(cov[0, 1] / (sd[0] * sd[1]), -1.0, 1.0))
     lo = (-a - c) / sd  # (..., 2)
     hi = (a - c) / sd
     both_in = np.clip(_rectangle_owen(lo[..., 0], hi[..., 0], lo[..., 1], hi[..., 1], rho),
                       0.0, 1.0)
-    p_in = [np.exp(prob_inside(c[..., i] / sd[i], a[i] / sd[i], log=True)) for i in range(2)]
+    p_in = [np.exp(_prob_inside(c[..., i] / sd[i], a[i] / sd[i], log=True)) for i in range(2)]
     if outside[0] and outside[1]:
         p = 1.0 - p_in[0] - p_in[1] + both_in
     elif outside[0]:
@@ -593,7 +595,7 @@ def _log_region_rectangles(lo, hi, rho, outside):
     return np.logaddexp.reduce(np.stack(logs), axis=0)
 
 
-def log_silent_constant(Vcov, a) -> float:
+def _log_silent_constant(Vcov, a) -> float:
     """``log P(|V_j| < a_j for all j)``, ``V ~ N(0, Vcov)`` (a constant in ``x``).
 
     Parameters
@@ -612,7 +614,7 @@ def log_silent_constant(Vcov, a) -> float:
     K = len(a)
     sd = np.sqrt(np.diag(Vcov))
     if K == 1:
-        return float(prob_inside(0.0, a[0] / sd[0], log=True))
+        return float(_prob_inside(0.0, a[0] / sd[0], log=True))
     if K == 2:
         rho = float(np.clip(Vcov[0, 1] / (sd[0] * sd[1]), -1.0, 1.0))
         b = a / sd
@@ -621,7 +623,7 @@ def log_silent_constant(Vcov, a) -> float:
     return float(np.log(mvn.cdf(a, lower_limit=-a)))
 
 
-def truncated_normal(u, lo, hi):
+def _truncated_normal(u, lo, hi):
     """Inverse-cdf draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi`` (``u ~ U[0, 1)``).
 
     An interval in the upper tail is reflected into the lower tail, where ``Phi`` keeps full
@@ -652,3 +654,89 @@ def truncated_normal(u, lo, hi):
             zz[far] = bb + np.log1p(-u[far]) / np.abs(bb)
     zz = np.clip(zz, a, b)
     return np.where(flip, -zz, zz)
+
+
+# ----------------------------------------------------------------------------- checked entry points
+# The functions above are the filters' kernels (no checks: the callers validated their inputs
+# once); the public names below check their arguments and then call the same kernel, so a
+# valid call gives the same bits.
+def _half_widths(name: str, h) -> np.ndarray:
+    h = _v._as_float(name, h)
+    if np.any(np.isnan(h)) or np.any(h < 0):
+        raise ValueError(f"{name} must be a non-negative half-width (+inf allowed), got {h!r}")
+    return h
+
+
+def _check_inside(m, h, **_) -> dict:
+    m, h = _finite("m", m), _half_widths("h", h)
+    _v.broadcast(m=m, h=h)
+    return dict(m=m, h=h)
+
+
+def _check_truncated(u, lo, hi) -> dict:
+    u = _finite("u", u)
+    if np.any((u < 0) | (u > 1)):
+        raise ValueError(f"u must lie in [0, 1] (uniforms), got {u!r}")
+    lo, hi = _v._as_float("lo", lo), _v._as_float("hi", hi)
+    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
+        raise ValueError("lo and hi must not be NaN (interval bounds; +-inf allowed)")
+    ub, lob, hib = _v.broadcast(u=u, lo=lo, hi=hi)
+    if np.any(lob > hib):
+        raise ValueError("lo must not exceed hi (an empty interval has no conditional law)")
+    return dict(u=u, lo=lo, hi=hi)
+
+
+def _check_silent_constant(Vcov, a) -> dict:
+    a = _v.nonneg("a", a, "a half-width")
+    _v.shape_is("a", a, (None,), "(K,)")
+    return dict(Vcov=_v.covariance("Vcov", Vcov, n=a.shape[0]), a=a)
+
+
+def _check_region(c, cov, a, outside) -> dict:
+    a = _v.shape_is("a", _v.nonneg("a", a, "a half-width"), (None,), "(K,)")
+    K = a.shape[0]
+    c = _v.shape_is("c", _finite("c", c), (..., K), f"a has K = {K} entries")
+    cov = _v.covariance("cov", cov, n=K)
+    if len(outside) != K:
+        raise ValueError(f"outside must have K = {K} entries, got {len(outside)}")
+    return dict(c=c, cov=cov, a=a, outside=outside)
+
+
+def _check_degenerate(mean, cov, eta) -> dict:
+    mean = _v.shape_is("mean", _finite("mean", mean), (None, None), "(k, m)")
+    cov = _v.covariance("cov", cov, batch=True)
+    _v.shape_is("cov", cov, (mean.shape[0], mean.shape[1], mean.shape[1]), "(k, m, m) as mean")
+    return dict(mean=mean, cov=cov, eta=float(_nonneg("eta", eta, "a threshold")))
+
+
+_RAISES = """
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite (bounds and half-widths may be ``+inf``), is
+        negative where it is a half-width or threshold, is not a covariance, or whose shape does
+        not match (the message states the expected shape).
+"""
+
+
+def _checked(kernel, check):
+    sig = inspect.signature(kernel)
+
+    def public(*args, **kwargs):
+        bound = sig.bind(*args, **kwargs)
+        bound.arguments.update(check(**bound.arguments))  # the arrays, converted
+        return kernel(*bound.args, **bound.kwargs)
+    public.__name__ = public.__qualname__ = kernel.__name__.lstrip("_")
+    public.__module__ = kernel.__module__
+    public.__doc__ = (kernel.__doc__ or "").replace(" No validation.", "").rstrip() + _RAISES
+    public.__signature__ = sig
+    return public
+
+
+prob_inside = _checked(_prob_inside, _check_inside)
+log_prob_inside = _checked(_log_prob_inside, _check_inside)
+truncated_normal = _checked(_truncated_normal, _check_truncated)
+log_silent_constant = _checked(_log_silent_constant, _check_silent_constant)
+log_region_probability = _checked(_log_region_probability, _check_region)
+log_inside_degenerate = _checked(_log_inside_degenerate, _check_degenerate)

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import special
 
+from fusioncenter import _validate as _v
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import probability as cprob
@@ -340,8 +341,14 @@ def silent_covariance(sc: VectorScenario, Sigma: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         ``Cov(V) (N m, N m)``, symmetric.
+
+    Raises
+    ------
+    ValueError
+        If ``Sigma`` is not a ``(2N, 2N)`` covariance.
     """
     N, m = sc.N, sc.m
+    Sigma = _v.covariance("Sigma", Sigma, n=2 * N)
     Hb = np.zeros((N * m, 2 * N))
     for i in range(N):
         Hb[i * m:(i + 1) * m, 2 * i:2 * i + 2] = sc.Hs[i]
@@ -370,7 +377,15 @@ def local_decisions(sc: VectorScenario, eta: float, z: np.ndarray) -> np.ndarray
     -------
     numpy.ndarray
         ``sent (n, T, N)``, bool.
+
+    Raises
+    ------
+    ValueError
+        If ``eta`` is not a finite non-negative number, or ``z`` is not finite of shape
+        ``(n, T, N, m)``.
     """
+    eta = check_eta(eta)
+    z = _v.shape_is("z", _v.finite("z", z), (None, sc.T, sc.N, sc.m), "(n, T, N, m)")
     lf = sc.local_filters()
     F, H = sc.F, sc.Hs
     n, T, N, m = z.shape
@@ -396,6 +411,12 @@ def whitening(R):
     -------
     tuple
         ``Linv (..., m, m)`` and ``log det R`` (float).
+
+    Raises
+    ------
+    ValueError
+        If ``R`` is not a symmetric positive-definite matrix.
     """
+    R = _v.covariance("R", R, definite=True)
     L = np.linalg.cholesky(R)
     return np.linalg.inv(L), 2.0 * float(np.log(np.diag(L)).sum())

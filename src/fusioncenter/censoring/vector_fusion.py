@@ -117,7 +117,7 @@ def _truncated_std_normal(rng, lo, hi):
     """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
     :func:`fusioncenter.censoring.probability.truncated_normal` at uniforms drawn from ``rng``."""
     u = rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi)))
-    return cprob.truncated_normal(u, lo, hi)
+    return cprob._truncated_normal(u, lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):

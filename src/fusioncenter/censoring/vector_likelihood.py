@@ -10,8 +10,10 @@ import math
 
 import numpy as np
 
+from fusioncenter._validate import broadcast as _broadcast
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
+from fusioncenter._validate import received as _received
 from fusioncenter.censoring.checks import check_eta, check_pd, check_psd
 from fusioncenter.censoring.ellipse import log_silent_probability
 
@@ -42,15 +44,22 @@ def log_likelihood_feedback(sent, z, Hx, Hx_pred, S, R, eta):
     -------
     numpy.ndarray
         ``log p(z_obs, m | x, xhat_{k|k-1})`` per leading index.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite (``z`` only where a sensor sent), not positive
+        definite (``S``, ``R``), negative (``eta``) or of non-matching shape.
     """
-    sent = np.asarray(sent, dtype=bool)
+    sent, z = _received(sent, z, axis_extra=1)
     Hx = _finite("Hx", Hx)
     Hx_pred = _finite("Hx_pred", Hx_pred)
+    _broadcast(z=z, Hx=Hx, Hx_pred=Hx_pred)
     m = Hx.shape[-1]
     S = check_pd("S", S, m)
     R = check_pd("R", R, m)
     eta = check_eta(eta)
-    z = np.where(sent[..., None], np.asarray(z, dtype=float), Hx)
+    z = np.where(sent[..., None], z, Hx)
     recv = np.where(sent, _log_gauss_each(z, Hx, R), 0.0)
     with np.errstate(invalid="ignore"):
         sil = np.where(sent, 0.0, log_silent_probability(Hx - Hx_pred, S, R, eta))
@@ -94,7 +103,7 @@ def log_likelihood_no_feedback_printed(sent, z, Hx, R, log_all_silent):
     sent = np.asarray(sent, dtype=bool)
     Hx = _finite("Hx", Hx)
     R = check_pd("R", R, Hx.shape[-1])
-    z = np.where(sent[..., None], np.asarray(z, dtype=float), Hx)
+    z = np.where(sent[..., None], z, Hx)
     recv = np.where(sent, _log_gauss_each(z, Hx, R), 0.0).sum(axis=-1)
     return recv + np.asarray(log_all_silent, dtype=float)
 

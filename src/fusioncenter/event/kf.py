@@ -9,10 +9,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from fusioncenter import _validate as _v
 from fusioncenter import riccati
 from fusioncenter.event._common import fires, per_sensor
 from fusioncenter.event.trigger import delta_for_rate, trigger_probability
-from fusioncenter.kalman import LinearGaussianModel, kalman_step
+from fusioncenter.kalman import LinearGaussianModel, _kalman_step
 
 __all__ = ["SCHEMES", "EventKFRun", "event_kf_run", "event_kf_chunk", "split_summary",
            "steady_state_delta", "Calibration", "calibrate_delta"]
@@ -208,7 +209,7 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
             Ck = C * g[:, :, None]
             Rk = np.broadcast_to(r[:, None] * eye, (n, m, m))
         sing = bool(np.any(np.diagonal(Rk, axis1=-2, axis2=-1) == 0))  # R_k is diagonal
-        xhat[:, k], Ppost[:, k], xpred, Ppred = kalman_step(  # P0, r checked
+        xhat[:, k], Ppost[:, k], xpred, Ppred = _kalman_step(  # P0, r checked
             xpred, Ppred, np.where(g, z, 0.0), Ck, Rk, A, Q, r_singular=sing)
     return EventKFRun(x=x, xhat=xhat, P=Ppost, gamma=gamma, send_prob=send_prob, scheme=scheme)
 
@@ -226,7 +227,8 @@ def event_kf_chunk(rng: np.random.Generator, n: int, *, model: LinearGaussianMod
     rng : numpy.random.Generator
         The source of randomness.
     n : int
-        Number of trials.
+        Number of trials, ``>= 0`` (``0``: an empty chunk, after checking the other
+        arguments).
     model : LinearGaussianModel
         The system; ``model.R`` must be diagonal (independent sensor noises).
     steps, scheme, delta, p
@@ -240,8 +242,12 @@ def event_kf_chunk(rng: np.random.Generator, n: int, *, model: LinearGaussianMod
     Raises
     ------
     ValueError
-        As :func:`event_kf_run`.
+        As :func:`event_kf_run`; naming ``n`` if it is not an integer ``>= 0``.
     """
+    n = _v.integer("n", n, 0)
+    if n == 0:  # the arguments are checked by a one-trial run on a throw-away generator
+        return event_kf_chunk(np.random.default_rng(0), 1, model=model, steps=steps,
+                              scheme=scheme, delta=delta, p=p)[:0]
     run = event_kf_run(model, steps, scheme, rng, n, delta=delta, p=p)
     diagP = np.diagonal(run.P, axis1=-2, axis2=-1)
     return np.concatenate([run.sq_err, diagP, run.gamma.astype(float), run.send_prob], axis=-1)
@@ -332,7 +338,9 @@ def steady_state_delta(model: LinearGaussianModel, rate, *, method: str = "mean-
     ------
     ValueError
         If ``rate`` or ``method`` is invalid, ``model.R`` is not diagonal and positive, or the
-        iteration does not converge.
+        iteration does not converge (the message names ``rate``: for a tiny rate the solver's
+        accuracy limits the fixed point); naming ``rate`` if it is so small (``r / rate``
+        near ``1e300``) that the steady state leaves the float range (a documented limit).
     """
     model, r = _model(model)
     m = model.ny
@@ -355,12 +363,22 @@ def steady_state_delta(model: LinearGaussianModel, rate, *, method: str = "mean-
         return delta
     for _ in range(max_iter):
         r_eff = 1.0 / (rate / r + (1.0 - rate) / (r + delta))
-        new = delta_from(r_eff)
+        try:
+            new = delta_from(r_eff)
+        except ValueError as err:
+            if "no stabilizing Riccati solution" not in str(err):
+                raise
+            raise ValueError(f"rate = {rate} is too small for a steady state of this model: "
+                             f"the silent sensors' effective noise variance r_eff ~ r / rate = "
+                             f"{r_eff} leaves the range of the Riccati solver (a documented "
+                             f"limit; calibrate_delta simulates instead)") from None
         if np.all(np.abs(new - delta) <= tol * np.maximum(1.0, np.abs(new))):
             return new
         delta = new
-    raise ValueError(f"steady_state_delta: no convergence in max_iter={max_iter} iterations "
-                     "(is (A, C) detectable?)")
+    raise ValueError(f"rate = {rate}: no convergence of steady_state_delta in "
+                     f"max_iter={max_iter} iterations to tol={tol} (is (A, C) detectable? "
+                     f"for a tiny rate the Riccati solver's accuracy, about 1e-10 relative, "
+                     f"is the limit: loosen tol)")
 
 
 class Calibration(NamedTuple):

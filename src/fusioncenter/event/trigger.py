@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.optimize
 
+from fusioncenter import _validate as _v
 from fusioncenter import riccati
 from fusioncenter._validate import covariance as _psd
 from fusioncenter._validate import finite as _finite
@@ -109,7 +110,8 @@ def trigger_probability(s, delta, mu=0.0):
         raise ValueError("s must be non-negative (a variance)")
     if np.any(delta <= 0):
         raise ValueError("delta must be positive")
-    out = -np.expm1(-0.5 * np.log1p(s / delta) - mu**2 / (2.0 * (delta + s)))
+    with np.errstate(over="ignore"):  # s / delta or mu^2 overflows: the probability is 1
+        out = -np.expm1(-0.5 * np.log1p(s / delta) - mu**2 / (2.0 * (delta + s)))
     return out[()] if out.ndim == 0 else out
 
 
@@ -195,7 +197,9 @@ def delta_for_rate(rate, s, mu=0.0):
     ------
     ValueError
         If an argument is NaN or infinite, ``rate`` is outside ``(0, 1)``, ``s < 0``, or
-        ``s = mu = 0`` (no ``delta`` gives a positive rate).
+        ``s = mu = 0`` (no ``delta`` gives a positive rate); or if ``rate`` is so small that
+        the ``delta`` it needs exceeds the float range (``delta ~ s / (2 rate)``: a documented
+        limit, e.g. ``rate = 1e-300`` with ``s = 1e10``).
     """
     rate = _finite("rate", rate)
     s = _finite("s", s)
@@ -207,7 +211,12 @@ def delta_for_rate(rate, s, mu=0.0):
     rate, s, mu = np.broadcast_arrays(rate, s, mu)
     if np.any((s == 0) & (mu == 0)):
         raise ValueError("s and mu are both 0: y = 0 never triggers, no delta gives that rate")
-    out = s * (1.0 - rate) ** 2 / (rate * (2.0 - rate))
+    with np.errstate(over="ignore"):
+        out = s * (1.0 - rate) ** 2 / (rate * (2.0 - rate))
+    if np.any(~np.isfinite(out) & (mu == 0)):
+        raise ValueError(f"rate is too small for s: the delta it needs (s (1 - rate)^2 / "
+                         f"(rate (2 - rate))) exceeds the float range, got rate = {rate!r}, "
+                         f"s = {s!r}")
     out = np.array(out, dtype=float)
     for idx in np.ndindex(out.shape):
         if mu[idx] != 0:
@@ -218,8 +227,17 @@ def delta_for_rate(rate, s, mu=0.0):
 def _delta_for_rate_mu(rate: float, s: float, mu: float) -> float:
     q = 1.0 - rate
     L = np.log1p(-rate)
-    lo = max(s * q * q / (1.0 - q * q), mu * mu / (-2.0 * L) - s)
-    hi = max(s * q / (1.0 - q), mu * mu / (-L))
+    # 1 - q^2 and 1 - q vanish in floating point for rate < 1.1e-16 (q rounds to 1): use the
+    # exact rate (2 - rate) and rate there (elsewhere the same bits as before)
+    one_q2 = 1.0 - q * q
+    one_q = 1.0 - q
+    with np.errstate(over="ignore"):
+        lo = max(s * q * q / (one_q2 if one_q2 > 0 else rate * (2.0 - rate)),
+                 mu * mu / (-2.0 * L) - s)
+        hi = max(s * q / (one_q if one_q > 0 else rate), mu * mu / (-L))
+    if not np.isfinite(hi):
+        raise ValueError(f"rate = {rate:.3g} is too small for s = {s:.3g}, mu = {mu:.3g}: the "
+                         f"delta it needs exceeds the float range")
 
     def f(u: float) -> float:
         d = np.exp(u)
@@ -274,15 +292,21 @@ def sample_trigger(rng: np.random.Generator, y, delta) -> np.ndarray:
     return fires(rng.random(y.shape), y, delta)
 
 
-def _posterior_core(xbar, Sigma, C, r, delta, gamma, y):
-    """Unvalidated, batched :func:`posterior` (``Sigma`` may be singular if the ``S`` are not)."""
+def _posterior_core(xbar, Sigma, C, r, delta, gamma, y, *, check: bool = False):
+    """Unvalidated, batched :func:`posterior` (``Sigma`` may be singular if the ``S`` are not;
+    ``check=True``: a measurement must lie in the range of a singular ``S``)."""
     m = C.shape[0]
     noise = r + np.where(gamma, 0.0, delta)  # (..., m)
     Rk = noise[..., :, None] * np.eye(m)
     SCt = Sigma @ C.T  # (..., n, m)
     S = C @ SCt + Rk
     innov = np.where(gamma, y, 0.0) - xbar @ C.T  # (..., m): NaN in silent entries never used
-    w = riccati.solve_psd(S, innov[..., None], singular=riccati.singular(Rk))
+    sing = riccati.singular(Rk)
+    w = riccati.solve_psd(S, innov[..., None], singular=sing)
+    if check and sing:
+        scale = np.abs(np.where(gamma, y, 0.0)).max(initial=0.0) + np.abs(
+            xbar @ C.T).max(initial=0.0)
+        _v.consistent("y", S, innov[..., None], scale)
     xhat = xbar + (SCt @ w)[..., 0]
     P = riccati.measurement_update(Sigma, C, Rk, check=False)  # checked by the caller
     return xhat, P
@@ -327,7 +351,10 @@ def posterior(xbar, Sigma, C, R, delta, gamma, y):
     Raises
     ------
     ValueError
-        Naming the argument that is not finite, of the wrong shape, not a covariance, or not 0/1.
+        Naming the argument that is not finite, of the wrong shape, not a covariance, or not
+        0/1; naming ``y`` if a received measurement contradicts the model (a noise-free sensor,
+        ``R_i = 0``, measuring a direction that ``Sigma`` says is known, ``c_i Sigma c_i^T =
+        0``, with ``y_i != c_i xbar``: no posterior exists).
     """
     C = _obs_matrix(C)
     m, n = C.shape
@@ -344,4 +371,4 @@ def posterior(xbar, Sigma, C, R, delta, gamma, y):
                          f"got {y.shape}") from None
     if not np.all(np.isfinite(y[gamma])):
         raise ValueError("y must be finite where gamma is 1 (a received measurement)")
-    return _posterior_core(xbar, Sigma, C, r, delta, gamma, y)
+    return _posterior_core(xbar, Sigma, C, r, delta, gamma, y, check=True)

@@ -151,7 +151,8 @@ def _shift(name: str, value) -> np.ndarray:
 
 def _rate(name: str, value) -> float:
     try:
-        ok = not isinstance(value, bool) and math.isfinite(float(value)) and float(value) > 0
+        ok = (not isinstance(value, bool | str | bytes) and math.isfinite(float(value))
+              and float(value) > 0)
     except (TypeError, ValueError):
         ok = False
     if not ok:

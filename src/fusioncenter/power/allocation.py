@@ -122,7 +122,15 @@ def coherent_max_snr(rho, tau, kappa, sigma_n2, gamma_total):
         w = rho / (kap + g_ * tau / sn_)
     norm = np.sum(w**2 * kap, axis=-1)
     if np.any(norm == 0):
-        raise ValueError("rho must have a non-zero entry (otherwise S = 0 whatever alpha)")
+        wmax = np.abs(w).max(axis=-1)
+        if np.any((norm == 0) & (wmax == 0)):
+            raise ValueError("rho must have a non-zero entry (otherwise S = 0 whatever alpha)")
+        # w^2 underflowed (a huge gamma_total makes w ~ rho sigma_n2 / (gamma tau)): only the
+        # direction of w matters, so rescale it where that happened (elsewhere: the same bits)
+        ws = w / np.where(norm == 0, wmax, 1.0)[..., None]
+        norm_s = np.sum(ws**2 * kap, axis=-1)
+        return np.where((norm == 0)[..., None], ws * np.sqrt(g / norm_s)[..., None],
+                        w * np.sqrt(g / np.where(norm == 0, 1.0, norm))[..., None])
     return w * np.sqrt(g / norm)[..., None]
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import positive as _positive
 from fusioncenter.power._common import (
     ALPHA,
@@ -72,8 +73,8 @@ def _time_slices(h, c, sigma_v2):
     h = _positive("h", h, "a channel gain magnitude")
     if h.ndim < 2:
         raise ValueError(f"h must be shaped (..., steps, sensors), got {h.shape}")
-    c = np.asarray(c, dtype=float)
-    sv = np.asarray(sigma_v2, dtype=float)
+    c = _finite("c", c)
+    sv = _finite("sigma_v2", sigma_v2)
     c = c[..., None, :] if c.ndim >= 1 else c
     sv = sv[..., None, :] if sv.ndim >= 1 else sv
     return h, c, sv
@@ -93,6 +94,7 @@ def greedy_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *, P0=Non
     D`` and every later step solves the same problem: those steps are solved together.
     """
     access = check_access(access)
+    D = _finite("D", D)
     h, c, sv = _time_slices(h, c, sigma_v2)
     steps = h.shape[-2]
     lead = h.shape[:-2]

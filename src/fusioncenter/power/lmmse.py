@@ -14,6 +14,7 @@ import numpy as np
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import integer as _integer
+from fusioncenter._validate import is_text
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 from fusioncenter.power._common import (
@@ -38,6 +39,8 @@ __all__ = ["beamformed", "lmmse_matrices", "lmmse_snr", "lmmse_coefficients", "l
 @_doc(returns=("numpy.ndarray", "Complex ``alpha~``."))
 def beamformed(alpha, h_mean) -> np.ndarray:
     """``alpha~_i = alpha_i conj(E h~_i) / |E h~_i|``: beamforming on the mean channel."""
+    if is_text(h_mean):
+        raise ValueError(f"h_mean must be (complex) numbers, not text, got {h_mean!r}")
     s = check_sensors(alpha=alpha, h_mean_abs=np.abs(np.asarray(h_mean)))
     m = np.asarray(h_mean, dtype=complex)
     if np.any(np.abs(m) == 0):

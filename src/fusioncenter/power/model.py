@@ -72,8 +72,10 @@ def steady_state(a, sigma_w2, S) -> np.ndarray:
     """Steady-state prediction variance ``P_inf`` of eq. (8) (= (7), (10)) for SNR ``S >= 0``.
 
     ``S = 0`` (no information) gives ``sigma_w2 / (1 - a^2)``, which needs ``|a| < 1``; for
-    ``S > 0`` any real ``a`` is allowed (Remark III.E.2). Reuses
-    :func:`fusioncenter.riccati.scalar_steady_state` with ``c = sqrt(S)``, ``r = 1``.
+    ``S > 0`` any real ``a`` is allowed (Remark III.E.2), up to a documented limit: for
+    ``|a| > 1`` ``P_inf`` is about ``sigma_w2 + (a^2 - 1) / S``, and where that exceeds the
+    float range (``a = 1e300``, ``S = 2``: ``5e599``) a ``ValueError`` naming ``a`` says so.
+    Reuses :func:`fusioncenter.riccati.scalar_steady_state` with ``c = sqrt(S)``, ``r = 1``.
     Broadcasts like a ufunc.
     """
     a = check_a(a, stable=False)
@@ -84,7 +86,14 @@ def steady_state(a, sigma_w2, S) -> np.ndarray:
     if np.any((S == 0) & (np.abs(a) >= 1)):
         raise ValueError("a must satisfy |a| < 1 when S = 0: without measurements an unstable "
                          "state has no steady-state variance")
-    return riccati.scalar_steady_state(a, sigma_w2, np.sqrt(S), 1.0)
+    try:
+        return riccati.scalar_steady_state(a, sigma_w2, np.sqrt(S), 1.0)
+    except ValueError as err:
+        if "beyond the float range" not in str(err):
+            raise
+        raise ValueError(f"a (with sigma_w2, S) gives a steady-state variance beyond the float "
+                         f"range (about sigma_w2 + (a^2 - 1) / S > 1.8e308): a = {a!r}, "
+                         f"sigma_w2 = {sigma_w2!r}, S = {S!r}") from None
 
 
 @_doc(returns=("numpy.ndarray", "The SNR at which ``P_inf = D``."), sigma_w2=SW2_TARGET)
