@@ -138,11 +138,144 @@ def test_output_to_a_directory_or_unwritable_path_exits_3(probe, tmp_path, capsy
     _one_line_error(capsys.readouterr().err)
 
 
-def test_corrupt_compute_cache_exits_3(probe, tmp_path, monkeypatch, capsys):
+def _cache_file(tmp_path):
+    files = list(tmp_path.glob("book-cli-probe.fast.20260101.npz"))
+    assert len(files) == 1, sorted(p.name for p in tmp_path.iterdir())
+    return files[0]
+
+
+def _rewrite(path, edit_meta=None, edit_arrays=None):
+    """Rewrite a cache file with its record or arrays changed, keeping the stored digest."""
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k].copy() for k in z.files}
+    meta = json.loads(arrays["meta"].tobytes())
+    if edit_meta:
+        edit_meta(meta)
+    if edit_arrays:
+        edit_arrays(arrays)
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    with path.open("wb") as fh:
+        np.savez(fh, **arrays)
+
+
+def test_compute_cache_never_serves_a_tampered_file(probe, tmp_path, monkeypatch, capsys):
     monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
-    (tmp_path / "book-cli-probe.fast.20260101.pickle").write_bytes(b"not a pickle")
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    assert _strict_loads(capsys.readouterr().out)["k"] == 2
+    path = _cache_file(tmp_path)
+    probe.clear()
+    assert main(["compute", "book-cli-probe", "--json"]) == 0  # served: no compute
+    assert probe == {} and _strict_loads(capsys.readouterr().out)["k"] == 2
+
+    def number(meta):  # a hand-edited number: k = 2 becomes 7
+        ks = [k.get("v") if isinstance(k, dict) else k for k in meta["tree"]["k"]]
+        meta["tree"]["v"][ks.index("k")]["v"] = "7"
+
+    def array(arrays):  # a changed array element
+        for name, arr in arrays.items():
+            if name != "meta" and arr.dtype.kind == "f" and arr.size == 2:
+                arr[0] = 123.0
+
+    for edit in ({"edit_meta": number}, {"edit_arrays": array}):
+        _rewrite(path, **edit)
+        probe.clear()
+        assert main(["compute", "book-cli-probe", "--json"]) == 0
+        out = capsys.readouterr()
+        data = _strict_loads(out.out)
+        assert data["k"] == 2 and data["arr"] == [1.0, "-Infinity"]
+        assert probe == {"profile": "fast"}, "the tampered file was served, not recomputed"
+        assert f"compute cache file {path} not used" in out.err
+        assert "integrity check failed" in out.err
+
+
+class _Payload:
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        import os
+
+        return (os.system, (f"touch {self.marker}",))
+
+
+def test_compute_cache_never_runs_a_planted_pickle(probe, tmp_path, monkeypatch, capsys):
+    import pickle
+
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    marker = tmp_path / "owned"
+    payload = pickle.dumps({"k": _Payload(marker)})
+    assert pickle.loads(pickle.dumps(_Payload(tmp_path / "check"))) == 0  # it does run code
+    assert (tmp_path / "check").exists()
+    for name in ("book-cli-probe.fast.20260101.npz", "book-cli-probe.fast.20260101.pickle"):
+        (tmp_path / name).write_bytes(payload)
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    out = capsys.readouterr()
+    assert not marker.exists(), "loading the cache ran the planted code"
+    assert _strict_loads(out.out)["k"] == 2 and probe == {"profile": "fast"}
+    assert "not a compute-cache file" in out.err
+
+
+def test_compute_cache_holding_a_non_dict_is_recomputed(probe, tmp_path, monkeypatch, capsys):
+    from fusioncenter import _cache
+
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    capsys.readouterr()
+    path = _cache_file(tmp_path)
+    key = {"id": "book-cli-probe", "profile": "fast", "seed": 20260101, "overrides": []}
+    assert _cache.load(path, key)[0]  # the key the registry uses
+    _cache.dump(path, [1, 2, 3], key)  # a sound file of the right key, but no dict
+    probe.clear()
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    out = capsys.readouterr()
+    assert probe == {"profile": "fast"} and "holds a list, not a dict" in out.err
+
+
+def test_compute_cache_is_keyed_by_the_library_source(probe, tmp_path, monkeypatch, capsys):
+    from fusioncenter import _cache
+
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    probe.clear()
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    assert probe == {}  # same library: served
+    monkeypatch.setattr(_cache, "fingerprint", lambda: "0" * 64)  # the library's code changed
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    assert probe == {"profile": "fast"}, "a result of another library version was served"
+    probe.clear()
+    assert main(["compute", "book-cli-probe", "--json"]) == 0
+    assert probe == {}  # rewritten under the new fingerprint
+    assert "not used" not in capsys.readouterr().err  # stale is not tampered: no warning
+
+
+def test_fingerprint_follows_the_source(tmp_path, monkeypatch):
+    from fusioncenter import _cache
+
+    a = _cache.fingerprint()
+    assert len(a) == 64 and a == _cache.fingerprint()
+    src = tmp_path / "fusioncenter"
+    src.mkdir()
+    (src / "m.py").write_text("x = 1\n")
+    monkeypatch.setattr(_cache, "__file__", str(src / "_cache.py"))
+    _cache.fingerprint.cache_clear()
+    try:
+        b = _cache.fingerprint()
+        (src / "m.py").write_text("x = 2\n")
+        _cache.fingerprint.cache_clear()
+        assert _cache.fingerprint() not in (a, b)
+    finally:
+        monkeypatch.undo()
+        _cache.fingerprint.cache_clear()
+    assert _cache.fingerprint() == a
+
+
+def test_unreadable_compute_cache_exits_3_naming_the_file(probe, tmp_path, monkeypatch,
+                                                         capsys):
+    monkeypatch.setenv(figures.registry.CACHE_ENV, str(tmp_path))
+    (tmp_path / "book-cli-probe.fast.20260101.npz").mkdir()  # exists, cannot be read
     assert main(["compute", "book-cli-probe", "--json"]) == 3
-    assert "unreadable" in _one_line_error(capsys.readouterr().err)
+    line = _one_line_error(capsys.readouterr().err)
+    assert "unreadable" in line and "book-cli-probe.fast.20260101.npz" in line
     with pytest.raises(figures.registry.ComputeCacheError, match="delete it"):
         figures.get("book-cli-probe").run_compute("fast")
 

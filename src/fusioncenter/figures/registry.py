@@ -16,9 +16,7 @@ import contextlib
 import hashlib
 import json
 import os
-import pickle
 import re
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from fusioncenter import context
+from fusioncenter import _cache, context
 from fusioncenter.context import Parameter
 from fusioncenter.profile import check_profile
 
@@ -298,7 +296,8 @@ class Entry:
         return sorted(k for k in (overrides or {}) if k in by and by[k].model)
 
     def run_compute(self, profile: str = "fast", seed: int | None = None, *,
-                    executor: str | None = None, **overrides) -> dict:
+                    executor: str | None = None, progress: bool = False,
+                    **overrides) -> dict:
         """``compute(profile, seed, **overrides)`` in an execution context, checked to return a
         dict.
 
@@ -311,20 +310,26 @@ class Entry:
             Where the Monte Carlo tasks run: ``serial``, ``processes[:N]``, ``dask:local`` or
             ``dask:ADDRESS`` (:func:`fusioncenter.context.parse_executor`). Default
             :func:`fusioncenter.context.default_spec`. The data do not depend on it.
+        progress
+            Report the progress of long Monte Carlo runs on stderr (the command line does).
         **overrides
             Values of the entry's :attr:`settable` parameters (unknown keys and bad values are
             a ``ValueError``).
 
         If the environment variable :data:`CACHE_ENV` names a folder, the data are stored there
-        (one pickle per id, profile, seed and overrides) and read back by later calls, in any
-        process: the book's build sets it to a folder inside its output that it wipes whenever
+        (one ``.npz`` file per id, profile, seed and overrides, in a format that cannot run code
+        when read: :mod:`fusioncenter._cache`) and read back by later calls, in any process, as
+        long as the library's version and source fingerprint are those the file was written
+        with (otherwise the entry is computed again and the file replaced). A file that fails
+        its integrity check (edited, truncated, planted), or holds no dict, is never served: a
+        warning names it and the entry is computed again. the book's build sets it to a folder inside its output that it wipes whenever
         the library, the lock or the configuration change (``tools/build_book.py``), so that a
         chapter that gathers other chapters' entries does not run them a second time. Chapters
         executing in parallel share the folder safely: writes are atomic (a temporary file
         renamed), and a process computing an entry holds a lock on it, so that another one
         needing the same entry waits and reads it instead of computing it again. A file that
-        cannot be read back is a :class:`ComputeCacheError`. Unset (the tests, nbval, the
-        command line), every call computes.
+        cannot be read at all (permissions) is a :class:`ComputeCacheError`. Unset (the tests,
+        nbval, the command line by default), every call computes.
         """
         check_profile(profile)
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)
@@ -335,24 +340,48 @@ class Entry:
             context.parse_executor(executor)
         compute = self._need("compute")
         over = self.check_overrides(overrides)
+        self.check_bounds(profile, over)
         folder = os.environ.get(CACHE_ENV, "").strip()
-        path = None
-        if folder:
-            tag = ""
-            if over:
-                blob = json.dumps(sorted(over.items()), default=str).encode()
-                tag = "." + hashlib.sha256(blob).hexdigest()[:12]
-            path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}.pickle"
-        ctx = context.ExecutionContext(profile, seed, spec, over)
-        if path is None:
+        ctx = context.ExecutionContext(profile, seed, spec, over, progress=bool(progress))
+        if not folder:
             return self._compute_in(ctx, compute, over)
+        tag = ""
+        if over:
+            blob = json.dumps(sorted(over.items()), default=str).encode()
+            tag = "." + hashlib.sha256(blob).hexdigest()[:12]
+        path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}{_cache.SUFFIX}"
+        key = {"id": self.id, "profile": profile, "seed": seed,
+               "overrides": sorted(over.items())}
         path.parent.mkdir(parents=True, exist_ok=True)
         with locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
             if path.exists():
-                return read_cached(path)
+                found, data = read_cached(path, key)
+                if found and isinstance(data, dict):
+                    return data
+                if found:
+                    _distrust(path, f"it holds a {type(data).__name__}, not a dict")
             data = self._compute_in(ctx, compute, over)
-            write_cached(path, data)
+            write_cached(path, data, key)
         return data
+
+    def check_bounds(self, profile: str, overrides: dict) -> dict:
+        """Every bound between parameters (``0 < l <= N``, ``trials_heavy <= trials``) checked
+        on the values of a run of ``profile`` with the parsed ``overrides``, before computing.
+
+        Returns
+        -------
+        dict
+            The resolved values (every settable parameter).
+
+        Raises
+        ------
+        ValueError
+            Naming the parameter and the bound it breaks.
+        """
+        values = {p.name: overrides.get(p.name, p.default_for(profile)) for p in self.settable}
+        for p in self.settable:
+            p.check_relations(values)
+        return values
 
     def _compute_in(self, ctx, compute, over: dict) -> dict:
         with context.activate(ctx):
@@ -405,6 +434,14 @@ class Entry:
         return ([c for c in claims if not c.paper_specific],
                 [c for c in claims if c.paper_specific])
 
+    def settable_lines(self) -> list[str]:
+        """The lines of ``python -m fusioncenter params ID``: each parameter with its type,
+        every bound (also those set by another parameter) and its default per profile."""
+        if not self.settable:
+            return [f"{self.id}: no parameters to override"]
+        return [p.describe() + ("  [changes the paper's setting]" if p.model else "")
+                for p in self.settable]
+
     def summary(self) -> dict:
         return {
             "id": self.id,
@@ -451,48 +488,70 @@ def locked(path: Path):
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 
-def read_cached(path: Path):
-    """The object a compute-cache file holds.
+def _distrust(path: Path, why: str) -> None:
+    import sys
+
+    print(f"warning: compute cache file {path} not used: {why}; computing again",
+          file=sys.stderr)
+
+
+def read_cached(path: Path, key: dict) -> tuple[bool, Any]:
+    """What a compute-cache file holds, if it was written under ``key`` by this library.
 
     Parameters
     ----------
     path : pathlib.Path
         A file written by :func:`write_cached`.
+    key : dict
+        What the data are computed from (JSON-able); the library's version and source
+        fingerprint are added (:func:`fusioncenter._cache.full_key`).
 
     Returns
     -------
-    object
-        What was stored.
+    tuple
+        ``(True, data)`` for a sound file of the same key; ``(False, None)`` when the file is
+        stale (another key, another version of the library), or fails its integrity check,
+        or is not a cache file at all (then a warning naming it goes to stderr): the caller
+        computes again and overwrites it. Nothing in the file is ever executed.
 
     Raises
     ------
     ComputeCacheError
-        If the file cannot be unpickled (the message says to delete it).
+        If the file exists but cannot be read (permissions, an I/O error).
     """
     try:
-        with path.open("rb") as fh:
-            return pickle.load(fh)
-    except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
+        return _cache.load(path, key)
+    except _cache.CacheFormatError as exc:
+        _distrust(path, str(exc))
+        return False, None
+    except OSError as exc:
         raise ComputeCacheError(
             f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); delete "
             f"it (or the folder {CACHE_ENV} names) and run again") from None
 
 
-def write_cached(path: Path, data) -> None:
-    """Store ``data`` in a compute-cache file atomically (a temporary file renamed), so that a
-    reader never sees half a file.
+def write_cached(path: Path, data, key: dict) -> None:
+    """Store ``data`` in a compute-cache file under ``key``, atomically (a temporary file
+    renamed), so that a reader never sees half a file. Data the format cannot hold (an
+    object that is neither plain data nor one of the library's dataclasses) are not stored.
 
     Parameters
     ----------
     path : pathlib.Path
         The file (its folder must exist).
     data : object
-        Anything picklable.
+        Dicts, lists, tuples, numbers, strings, NumPy arrays and scalars, the library's
+        dataclasses.
+    key : dict
+        As in :func:`read_cached`.
     """
-    tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-    with tmp.open("wb") as fh:
-        pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
-    tmp.replace(path)
+    try:
+        _cache.dump(path, data, key)
+    except _cache.Unstorable as exc:
+        import sys
+
+        print(f"warning: {path.name} not stored in the compute cache (cannot store {exc})",
+              file=sys.stderr)
 
 
 REGISTRY: dict[str, Entry] = {}
@@ -540,7 +599,17 @@ def get(entry_id: str) -> Entry:
     UnknownEntry
         If no entry has that id (the message suggests close ids).
     """
-    _load()
+    if entry_id in REGISTRY:
+        return REGISTRY[entry_id]
+    from fusioncenter.figures import index
+
+    row = index.find(entry_id)
+    if row is not None:  # import only the module that registers it
+        import importlib
+
+        importlib.import_module(f"fusioncenter.figures.{row['module']}")
+    else:
+        _load()
     try:
         return REGISTRY[entry_id]
     except KeyError:
