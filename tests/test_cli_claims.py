@@ -340,3 +340,171 @@ def test_module_entry_point_exit_codes():
     p = subprocess.run([*run, "compute", "background-riccati", "--json"], capture_output=True,
                        text=True)
     assert p.returncode == 0 and math.isfinite(_strict_loads(p.stdout)["p_scalar"][0])
+
+
+# ------------------------------------------------------------------ issue 30: the command line
+def test_csv_dash_writes_to_standard_output(probe, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["compute", "book-cli-probe", "--csv", "-"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("name,index,value\n_run,id,book-cli-probe\n")
+    assert "k,,2\n" in out and "\r" not in out
+    assert not (tmp_path / "-").exists()
+
+
+def test_a_repeated_set_key_is_an_error(probe, capsys):
+    assert main(["compute", "book-cli-probe", "--json", "--set", "k=3", "--set", "k=4"]) == 2
+    line = _one_line_error(capsys.readouterr().err)
+    assert "--set k given twice" in line and probe == {}
+
+
+def test_numbers_read_python_syntax_for_both_kinds():
+    n = Parameter("n", "int", "a count", 2, minimum=1)
+    x = Parameter("x", "float", "a level", 1.0)
+    assert n.parse("4_00") == 400 and x.parse("4_00") == 400.0
+    assert n.parse("1e3") == 1000 and x.parse("1e3") == 1000.0
+    assert n.parse("2.5e1") == 25 and n.parse("1e30") == 10**30  # exact, no float rounding
+    for bad in ("1.5", "1e-3", "inf", "nan", "1e", "4__0", "0x10"):
+        with pytest.raises(ValueError, match="parameter n: expected an integer"):
+            n.parse(bad)
+
+
+def test_params_shows_every_bound_and_bounds_are_checked_before_computing(capsys):
+    assert main(["params", "zheng2014-fig1"]) == 0
+    out = capsys.readouterr().out
+    assert "l (float, 0 < l <= N;" in out and "N (int, 1 <= N <= 64;" in out
+    assert "trials (int, 2 <= trials;" in out and "default fast 200, paper 5000" in out
+    assert main(["params", "zheng2014-fig3"]) == 0
+    assert "2 <= trials_heavy <= trials;" in capsys.readouterr().out
+    for value, msg in (("5", "parameter l: must be <= N (2), got 5.0"),
+                       ("0", "parameter l: must be > 0, got 0.0")):
+        assert main(["compute", "zheng2014-fig1", "--json", "--set", f"l={value}"]) == 2
+        err = capsys.readouterr().err
+        assert msg in _one_line_error(err) and "computing" not in err
+    assert main(["compute", "zheng2014-fig1", "--json", "--set", "N=6", "--set", "l=5",
+                 "--set", "trials=-1"]) == 2  # l <= N holds; trials does not
+    assert "trials: must be >= 2" in capsys.readouterr().err
+
+
+def test_an_absurd_size_is_refused_before_allocating(capsys):
+    import time
+
+    t0 = time.monotonic()
+    assert main(["compute", "zheng2014-fig1", "--json", "--set", "particles=1000000000"]) == 2
+    line = _one_line_error(capsys.readouterr().err)
+    assert "particles = 1000000000" in line and "GiB of memory" in line and "available" in line
+    assert main(["compute", "background-kf-montecarlo", "--json", "--set",
+                 "trials=1000000000"]) == 2
+    line = _one_line_error(capsys.readouterr().err)
+    assert "n_trials = 1000000000" in line and "GiB of memory" in line
+    assert time.monotonic() - t0 < 60
+
+
+def test_the_monte_carlo_memory_guard_names_the_trials(monkeypatch):
+    from fusioncenter import montecarlo
+
+    calls = []
+
+    def fn(rng, n):
+        calls.append(n)
+        return rng.standard_normal((n, 4))
+
+    monkeypatch.setattr(montecarlo, "available_memory", lambda: 2**30)
+    with pytest.raises(ValueError, match=r"n_trials = 100000000: .* about 5\.96 GiB .* "
+                                         r"1 GiB available"):
+        montecarlo.simulate(fn, 100_000_000, 1)
+    assert calls == [256]  # one block ran, nothing else was allocated
+    with pytest.raises(ValueError, match="random streams"):  # before the seeds are made
+        montecarlo.simulate(fn, 10**13, 1)
+    assert calls == [256]
+    assert montecarlo.simulate(fn, 1000, 1).samples.shape == (1000, 4)  # fits: runs
+
+
+@pytest.mark.parametrize("exc, code, text", [
+    (MemoryError("Unable to allocate 14.9 GiB"), 3, "out of memory while computing"),
+    (OSError("scheduler gone"), 3, "scheduler gone"),
+    (ZeroDivisionError("a bug"), 4, "internal error (ZeroDivisionError)"),
+])
+def test_failures_during_a_run_exit_with_the_table_code(probe, monkeypatch, capsys, exc,
+                                                        code, text):
+    entry = figures.get("book-cli-probe")
+
+    def compute(profile, seed, **over):
+        raise exc
+
+    monkeypatch.setattr(entry, "compute", compute)
+    assert main(["compute", "book-cli-probe", "--json"]) == code
+    err = capsys.readouterr().err
+    if code == 4:
+        assert "Traceback" in err and err.rstrip().splitlines()[-1].startswith("error: ")
+        assert text in err
+    else:
+        assert text in _one_line_error(err)
+
+
+def test_a_lost_dask_scheduler_exits_3(probe, monkeypatch, capsys):
+    from concurrent.futures import CancelledError
+
+    distributed = pytest.importorskip("distributed")
+    entry = figures.get("book-cli-probe")
+    for exc in (distributed.comm.core.CommClosedError("in <TCP (closed)>: Stream is closed"),
+                CancelledError("lost")):
+        def compute(profile, seed, exc=exc, **over):
+            raise exc
+
+        monkeypatch.setattr(entry, "compute", compute)
+        assert main(["compute", "book-cli-probe", "--json"]) == 3
+        assert type(exc).__name__ in _one_line_error(capsys.readouterr().err)
+
+
+def test_help_documents_the_cache_and_the_exit_codes():
+    for argv in (["--help"], ["compute", "--help"]):
+        p = subprocess.run([sys.executable, "-m", "fusioncenter", *argv], capture_output=True,
+                           text=True)
+        assert p.returncode == 0
+        assert "FUSIONCENTER_COMPUTE_CACHE" in p.stdout and "143 terminated" in p.stdout
+
+
+def test_list_params_and_a_misspelt_id_import_no_figure_module():
+    from fusioncenter.figures import index
+
+    index.entries()  # the index is current (written again if the source changed)
+    code = ("import sys; from fusioncenter.cli import main\n"
+            "for argv in (['list'], ['list', '--json'], ['params', 'zheng2014-table1'],\n"
+            "             ['params', 'zheng2014-tabel1']):\n"
+            "    print(main(argv), file=sys.stderr)\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('numpy', 'matplotlib',\n"
+            "      'fusioncenter.figures.'))), file=sys.stderr)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    lines = p.stderr.strip().splitlines()
+    assert lines[-1] == "['fusioncenter.figures.index']", p.stderr
+    assert [ln for ln in lines if ln in "0 2"] == ["0", "0", "0", "2"]
+    assert "did you mean zheng2014-table1" in p.stderr
+
+
+def test_the_index_matches_the_registry():
+    from fusioncenter.figures import index
+
+    rows = json.loads(json.dumps(index.build()["entries"]))  # as stored
+    assert [r["id"] for r in rows] == figures.ids()
+    assert index.entries() == rows
+    for r in rows:
+        e = figures.get(r["id"])
+        assert r["settable_lines"] == e.settable_lines()
+        assert {k: v for k, v in r.items() if k not in ("module", "settable_lines")} == \
+            json.loads(json.dumps(e.summary()))
+
+
+def test_compute_imports_only_the_module_of_its_entry():
+    from fusioncenter.figures import index
+
+    index.entries()  # current
+    code = ("import sys; from fusioncenter import figures\n"
+            "e = figures.get(sys.argv[1]); assert e.id == sys.argv[1]\n"
+            "print(sorted(m.split('.')[2] for m in sys.modules\n"
+            "             if m.startswith('fusioncenter.figures.') and m.count('.') >= 3))")
+    for entry_id, part in (("dey2009-fig1", "dey2009"), ("zheng2014-table1", "zheng2014")):
+        p = subprocess.run([sys.executable, "-c", code, entry_id], capture_output=True,
+                           text=True)
+        assert p.returncode == 0, p.stderr
+        assert set(eval(p.stdout)) == {part}, p.stdout  # noqa: S307 (our own list)

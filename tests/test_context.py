@@ -14,6 +14,7 @@ from fusioncenter.figures import dey2009, zheng2014
 # ------------------------------------------------------------------------ executor specs
 def test_executor_specs_are_validated_and_normalised():
     assert context.parse_executor("serial") == "serial"
+    assert context.parse_executor(" auto ") == "auto"
     assert context.parse_executor(" processes:3 ") == "processes:3"
     assert context.parse_executor("processes") == f"processes:{context.cores()}"
     assert context.parse_executor("dask:local") == "dask:local"
@@ -26,7 +27,7 @@ def test_executor_specs_are_validated_and_normalised():
 def test_default_spec_and_environment(monkeypatch):
     monkeypatch.delenv(context.EXECUTOR_ENV, raising=False)
     assert context.default_spec("fast") == "serial"
-    expected = "serial" if context.cores() == 1 else f"processes:{context.cores()}"
+    expected = "serial" if context.cores() == 1 else "auto"
     assert context.default_spec("paper") == expected
     monkeypatch.setenv(context.EXECUTOR_ENV, "processes:2")
     assert context.default_spec("fast") == "processes:2"
@@ -205,4 +206,4 @@ def test_parallel_computes_of_one_entry_share_the_cache(monkeypatch, tmp_path):
         t.join()
     assert calls == [3] and len(out) == 3
     assert all(np.array_equal(o["x"], np.arange(4.0)) for o in out)
-    assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.pickle"]
+    assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.npz"]

@@ -93,15 +93,15 @@ def jsonable(value):
         (finite), ``bool`` or ``None``, which ``json.dumps(..., allow_nan=False)`` accepts.
         Tuples and sets become lists (a set in its iteration order).
     """
-    import numpy as np
+    np = sys.modules.get("numpy")  # no NumPy object exists before NumPy is imported
 
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple | set | frozenset):
         return [jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
+    if np is not None and isinstance(value, np.ndarray):
         return jsonable(value.tolist())
-    if isinstance(value, np.generic):
+    if np is not None and isinstance(value, np.generic):
         return jsonable(value.item())
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return value

@@ -656,8 +656,12 @@ def _number(name: str, text: str, kind: str):
     ``1.5`` and ``1e-3`` are refused), read exactly (no rounding through a float)."""
     from decimal import Decimal, InvalidOperation
 
+    import re
+
     t = text.strip()
     try:
+        if re.search(r"(?<![0-9])_|_(?![0-9])", t):  # "_" only between digits, as in Python
+            raise ValueError
         if kind != "int":
             return float(t)
         try:

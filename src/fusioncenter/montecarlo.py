@@ -339,10 +339,10 @@ def simulate(
         raise ValueError("executor must provide submit(fn, *args) like concurrent.futures")
 
     n_blocks = math.ceil(n_trials / block_size)
-    sizes = [block_size] * (n_blocks - 1) + [n_trials - block_size * (n_blocks - 1)]
-    # the seeds of the blocks cost memory too: refuse an absurd count before spawning them
+    # the seeds of the blocks cost memory too: refuse an absurd count before making them
     check_memory("n_trials", n_trials, n_blocks * _SEED_BYTES, "the random streams of the "
                  f"{n_blocks} blocks")
+    sizes = [block_size] * (n_blocks - 1) + [n_trials - block_size * (n_blocks - 1)]
     root = np.random.SeedSequence(seed)
     # The first block runs here, first: its result's size tells the memory of all trials (and
     # its time how long the run takes, which decides the ``auto`` executor). Spawning the

@@ -35,11 +35,9 @@ def build() -> dict:
     from fusioncenter import _cache
     from fusioncenter.figures import registry
 
-    module_of: dict[str, str] = {}
     for name in registry._MODULES:
         importlib.import_module(f"fusioncenter.figures.{name}")
-        for entry_id in registry.REGISTRY:
-            module_of.setdefault(entry_id, name)
+    module_of = registry.REGISTERED_BY
     rows = []
     for e in registry.entries():
         if e.id not in module_of:  # registered outside the modules (a test's probe)

@@ -578,7 +578,20 @@ def register(entry: Entry) -> Entry:
     if entry.id in REGISTRY:
         raise ValueError(f"duplicate registry id {entry.id!r}")
     REGISTRY[entry.id] = entry
+    import sys
+
+    frame = sys._getframe(1)
+    while frame is not None:  # the module whose import registers it (for the lazy index)
+        name = frame.f_globals.get("__name__", "")
+        if frame.f_code.co_name == "<module>" and name.startswith("fusioncenter.figures."):
+            REGISTERED_BY[entry.id] = name[len("fusioncenter.figures."):]
+            break
+        frame = frame.f_back
     return entry
+
+
+#: Registry id -> the module (below ``fusioncenter.figures``) whose import registered it.
+REGISTERED_BY: dict[str, str] = {}
 
 
 def get(entry_id: str) -> Entry:
