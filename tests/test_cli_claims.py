@@ -466,7 +466,7 @@ def test_help_documents_the_cache_and_the_exit_codes():
 
 
 def test_list_params_and_a_misspelt_id_import_no_figure_module():
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     index.entries()  # the index is current (written again if the source changed)
     code = ("import sys; from fusioncenter.cli import main\n"
@@ -477,13 +477,13 @@ def test_list_params_and_a_misspelt_id_import_no_figure_module():
             "      'fusioncenter.figures.'))), file=sys.stderr)")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     lines = p.stderr.strip().splitlines()
-    assert lines[-1] == "['fusioncenter.figures.index']", p.stderr
+    assert lines[-1] == "['fusioncenter.figures._index']", p.stderr
     assert [ln for ln in lines if ln in "0 2"] == ["0", "0", "0", "2"]
     assert "did you mean zheng2014-table1" in p.stderr
 
 
 def test_the_index_matches_the_registry():
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     rows = json.loads(json.dumps(index.build()["entries"]))  # as stored
     assert [r["id"] for r in rows] == figures.ids()
@@ -496,7 +496,7 @@ def test_the_index_matches_the_registry():
 
 
 def test_compute_imports_only_the_module_of_its_entry():
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     index.entries()  # current
     code = ("import sys; from fusioncenter import figures\n"

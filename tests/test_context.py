@@ -207,3 +207,52 @@ def test_parallel_computes_of_one_entry_share_the_cache(monkeypatch, tmp_path):
     assert calls == [3] and len(out) == 3
     assert all(np.array_equal(o["x"], np.arange(4.0)) for o in out)
     assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.npz"]
+
+
+# ------------------------------------------------------------------------ the auto executor
+def _draws(rng, n):
+    return rng.standard_normal((n, 3))
+
+
+def test_auto_starts_a_pool_only_for_a_run_that_repays_it(monkeypatch):
+    """``auto``: a short run stays serial (no pool is started); a run whose serial time
+    would exceed AUTO_POOL_SECONDS goes to the pool; the numbers are the same bitwise."""
+    from concurrent.futures import Future
+
+    from fusioncenter import montecarlo
+
+    started, submitted = [], []
+
+    class Pool:
+        def submit(self, fn, *args):
+            submitted.append(args)
+            f = Future()
+            f.set_result(fn(*args))
+            return f
+
+    def fake_pool(spec):
+        started.append(spec)
+        return Pool()
+
+    monkeypatch.setattr(context, "_pool", fake_pool)
+    monkeypatch.setattr(context, "cores", lambda: 2)
+    serial = montecarlo.simulate(_draws, 5000, 7).samples
+    with context.activate(context.ExecutionContext("paper", 7, "auto")):
+        ex = context.executor()
+        assert getattr(ex, "adaptive", False)
+        short = montecarlo.simulate(_draws, 5000, 7, executor=ex).samples
+        assert started == [] and submitted == []  # milliseconds of work: serial
+        monkeypatch.setattr(context, "AUTO_POOL_SECONDS", 0.0)  # as if the run were long
+        long = montecarlo.simulate(_draws, 5000, 7, executor=context.executor()).samples
+        assert started == ["processes:2"] and submitted
+    assert short.tobytes() == serial.tobytes() == long.tobytes()
+
+
+def test_auto_is_the_paper_default_and_documented(monkeypatch, capsys):
+    from fusioncenter.cli import main
+
+    monkeypatch.delenv(context.EXECUTOR_ENV, raising=False)
+    assert context.parse_executor("auto") == "auto"
+    assert main(["params", "zheng2014-table1"]) == 0
+    out = capsys.readouterr().out
+    assert "auto" in out and "about 5 s" in out

@@ -106,7 +106,6 @@ def _encode(value, arrays: list):
 
 
 def _decode(node, arrays: dict):
-    import numpy as np
 
     if node is None or isinstance(node, bool | str):
         return node

@@ -47,6 +47,7 @@ Errors of codes 2, 3, 130 and 143 print one line ``error: ...`` and no traceback
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import json
 import math
@@ -160,8 +161,6 @@ def write_csv(data: dict, path, run: dict | None = None) -> None:
     OSError
         If ``path`` cannot be opened for writing.
     """
-    import contextlib
-
     import numpy as np
 
     with contextlib.nullcontext(path) if hasattr(path, "write") else \
@@ -261,7 +260,7 @@ class _UnknownId(ValueError):
 
 def _known(entry_id: str) -> None:
     """Refuse an unknown id from the index, before importing any figure module."""
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     registry = sys.modules.get("fusioncenter.figures.registry")
     if registry is not None and entry_id in registry.REGISTRY:
@@ -321,7 +320,7 @@ def _compute(entry, args, over: dict):
 
 
 def _list(as_json: bool) -> int:
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     rows = [{k: v for k, v in r.items() if k not in ("module", "settable_lines")}
             for r in index.entries()]
@@ -339,7 +338,7 @@ def _list(as_json: bool) -> int:
 
 
 def _params(entry_id: str) -> int:
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     row = index.find(entry_id)
     registry = sys.modules.get("fusioncenter.figures.registry")
@@ -380,6 +379,17 @@ def _main(args) -> int:
         else context.default_spec(args.profile)
     over = entry.check_overrides(_overrides(args.overrides))
     entry.check_bounds(args.profile, over)
+    if args.executor.startswith("dask:"):  # its client logs tracebacks of a lost scheduler
+        import logging
+
+        with contextlib.suppress(ImportError):  # it configures its loggers: quieten them
+            import distributed  # noqa: F401
+
+        for name in list(logging.root.manager.loggerDict):
+            if name.split(".")[0] in ("distributed", "tornado"):
+                logging.getLogger(name).setLevel(logging.CRITICAL)
+        for name in ("distributed", "tornado"):
+            logging.getLogger(name).setLevel(logging.CRITICAL)
     to_stdout = args.cmd == "compute" and args.csv is not None and str(args.csv) == "-"
     if args.cmd == "compute":
         if args.csv is not None and not to_stdout:

@@ -50,8 +50,8 @@ from typing import Any
 
 from fusioncenter.profile import check_profile
 
-__all__ = ["EXECUTOR_ENV", "AUTO_POOL_SECONDS", "ExecutionContext", "parse_executor", "default_spec", "cores",
-           "activate", "current", "executor", "workers", "shutdown"]
+__all__ = ["EXECUTOR_ENV", "AUTO_POOL_SECONDS", "AutoPool", "ExecutionContext", "parse_executor",
+           "default_spec", "cores", "activate", "current", "executor", "workers", "shutdown"]
 
 #: Environment variable with the executor spec of the book build (and any process).
 EXECUTOR_ENV = "FUSIONCENTER_EXECUTOR"
@@ -92,8 +92,9 @@ def parse_executor(spec: str) -> str:
     Returns
     -------
     str
-        ``auto``, ``serial``, ``processes:N`` (``processes`` alone becomes ``processes:<cores>``, see
-        :func:`cores`; ``N`` without leading zeros), ``dask:local`` or ``dask:ADDRESS``.
+        ``auto``, ``serial``, ``processes:N`` (``processes`` alone becomes
+        ``processes:<cores>``, see :func:`cores`; ``N`` without leading zeros), ``dask:local``
+        or ``dask:ADDRESS``.
 
     Raises
     ------
@@ -278,15 +279,38 @@ class AutoPool:
 
     @staticmethod
     def spec() -> str:
+        """The pool's spec.
+
+        Returns
+        -------
+        str
+            ``processes:<cores>``.
+        """
         return f"processes:{cores()}"
 
     def started(self) -> bool:
-        """Whether the pool is already running (then using it costs nothing more)."""
+        """Whether the pool is already running (then using it costs nothing more).
+
+        Returns
+        -------
+        bool
+        """
         return self.spec() in _POOLS
 
     def choose(self, serial_seconds: float):
-        """The pool if ``serial_seconds`` (the estimated serial time of what is left) exceeds
-        :data:`AUTO_POOL_SECONDS` or the pool is running, else ``None`` (serial)."""
+        """Where the rest of a run goes.
+
+        Parameters
+        ----------
+        serial_seconds : float
+            The estimated serial time of what is left of the run.
+
+        Returns
+        -------
+        concurrent.futures.Executor or None
+            The pool if ``serial_seconds`` exceeds :data:`AUTO_POOL_SECONDS` or the pool is
+            running (on a machine of several cores), else ``None`` (serial).
+        """
         if cores() < 2:
             return None
         if self.started() or serial_seconds > AUTO_POOL_SECONDS:
@@ -408,7 +432,11 @@ def _start(spec: str):
         close.kills = True
         _CLOSERS.append(close)
         return pool
-    from dask.distributed import Client, LocalCluster
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise RuntimeError(f"executor {spec}: dask.distributed is not installed ({exc})") \
+            from None
 
     address = spec[len("dask:"):]
     if address == "local":
@@ -613,7 +641,13 @@ class Parameter:
             f"{self.doc}"
 
     def bounds(self) -> str:
-        """Every bound of the parameter as text (``, 0 < l <= N``; ``""`` if unbounded)."""
+        """Every bound of the parameter as text.
+
+        Returns
+        -------
+        str
+            ``", 0 < l <= N"`` (the form of :meth:`describe`), ``""`` if unbounded.
+        """
         his = [f"{self.maximum:g}"] if self.maximum is not None else []
         if self.at_most:
             his.append(self.at_most)
@@ -654,9 +688,8 @@ def _number(name: str, text: str, kind: str):
     with optional ``_`` separators (``4_00`` is 400) and scientific notation (``1e3``); an
     ``int`` accepts a scientific value only when it is a whole number (``1e3`` is 1000,
     ``1.5`` and ``1e-3`` are refused), read exactly (no rounding through a float)."""
-    from decimal import Decimal, InvalidOperation
-
     import re
+    from decimal import Decimal, InvalidOperation
 
     t = text.strip()
     try:

@@ -136,8 +136,14 @@ _SEED_BYTES = 600
 
 
 def available_memory() -> int | None:
-    """Bytes of memory this process can still allocate, about (``MemAvailable`` of
-    ``/proc/meminfo``, capped by an address-space limit); ``None`` where it is unknown."""
+    """The memory this process can still allocate, about.
+
+    Returns
+    -------
+    int or None
+        Bytes: ``MemAvailable`` of ``/proc/meminfo`` (else the available physical pages),
+        capped by an address-space limit (``RLIMIT_AS``); ``None`` where it is unknown.
+    """
     avail = None
     try:
         with open("/proc/meminfo") as fh:
@@ -181,11 +187,16 @@ def check_memory(name: str, value: int, nbytes: float, what: str) -> None:
     what : str
         What the memory is for (in the message).
 
+    Returns
+    -------
+    None
+        Nothing when the size fits (or the memory available is unknown).
+
     Raises
     ------
     ValueError
-        If ``nbytes`` exceeds 90 % of :func:`available_memory` (nothing when that is unknown);
-        the message gives the estimate and what is available.
+        If ``nbytes`` exceeds 90 % of :func:`available_memory`; the message gives the
+        estimate and what is available.
     """
     avail = available_memory()
     if avail is not None and nbytes > 0.9 * avail:

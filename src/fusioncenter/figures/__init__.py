@@ -7,7 +7,7 @@
 
 Importing this package is cheap: the registry (:mod:`fusioncenter.figures.registry`) is imported
 on first use of one of its names, and :func:`get` imports only the module that registers the
-entry asked for (found in the index :mod:`fusioncenter.figures.index`).
+entry asked for (found in the index :mod:`fusioncenter.figures._index`).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def __getattr__(name: str):
         from fusioncenter.figures import registry
 
         return getattr(registry, name)
-    if name in ("registry", "index"):
+    if name in ("registry", "_index"):
         import importlib
 
         return importlib.import_module(f"fusioncenter.figures.{name}")
@@ -41,4 +41,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted([*__all__, "registry", "index"])
+    return sorted([*__all__, "registry"])

@@ -322,8 +322,9 @@ class Entry:
         long as the library's version and source fingerprint are those the file was written
         with (otherwise the entry is computed again and the file replaced). A file that fails
         its integrity check (edited, truncated, planted), or holds no dict, is never served: a
-        warning names it and the entry is computed again. the book's build sets it to a folder inside its output that it wipes whenever
-        the library, the lock or the configuration change (``tools/build_book.py``), so that a
+        warning names it and the entry is computed again. The book's build sets it to a folder
+        inside its output that it wipes whenever the library, the lock or the configuration
+        change (``tools/build_book.py``), so that a
         chapter that gathers other chapters' entries does not run them a second time. Chapters
         executing in parallel share the folder safely: writes are atomic (a temporary file
         renamed), and a process computing an entry holds a lock on it, so that another one
@@ -367,6 +368,13 @@ class Entry:
     def check_bounds(self, profile: str, overrides: dict) -> dict:
         """Every bound between parameters (``0 < l <= N``, ``trials_heavy <= trials``) checked
         on the values of a run of ``profile`` with the parsed ``overrides``, before computing.
+
+        Parameters
+        ----------
+        profile : str
+            ``"fast"`` or ``"paper"`` (the defaults of the parameters not overridden).
+        overrides : dict
+            The overrides parsed by :meth:`check_overrides`.
 
         Returns
         -------
@@ -435,8 +443,14 @@ class Entry:
                 [c for c in claims if c.paper_specific])
 
     def settable_lines(self) -> list[str]:
-        """The lines of ``python -m fusioncenter params ID``: each parameter with its type,
-        every bound (also those set by another parameter) and its default per profile."""
+        """The lines of ``fusioncenter params ID``.
+
+        Returns
+        -------
+        list of str
+            Each parameter with its type, every bound (also one set by another parameter)
+            and its default per profile; one line saying there is none otherwise.
+        """
         if not self.settable:
             return [f"{self.id}: no parameters to override"]
         return [p.describe() + ("  [changes the paper's setting]" if p.model else "")
@@ -614,7 +628,7 @@ def get(entry_id: str) -> Entry:
     """
     if entry_id in REGISTRY:
         return REGISTRY[entry_id]
-    from fusioncenter.figures import index
+    from fusioncenter.figures import _index as index
 
     row = index.find(entry_id)
     if row is not None:  # import only the module that registers it

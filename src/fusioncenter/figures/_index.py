@@ -7,7 +7,7 @@ SciPy and matplotlib imports), and :func:`fusioncenter.figures.registry.get` imp
 module of the entry asked for. The index records the library's source fingerprint
 (:func:`fusioncenter._cache.fingerprint`): when the source has changed since it was written it is
 not used (everything is imported, as without an index) and it is written again where the
-package folder is writable. ``python -m fusioncenter.figures.index`` rewrites it;
+package folder is writable. ``python -m fusioncenter.figures._index`` rewrites it;
 ``tests/test_registry_cli.py`` checks that it matches the registry.
 """
 
