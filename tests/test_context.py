@@ -256,3 +256,23 @@ def test_auto_is_the_paper_default_and_documented(monkeypatch, capsys):
     assert main(["params", "zheng2014-table1"]) == 0
     out = capsys.readouterr().out
     assert "auto" in out and "about 5 s" in out
+
+
+def test_progress_of_a_long_run_only(capsys, monkeypatch):
+    """Progress on stderr (not a terminal): a first line with the estimate, then a line every
+    30 s; nothing for a run expected to end within seconds."""
+    from fusioncenter import montecarlo
+
+    monkeypatch.setattr("sys.stderr.isatty", lambda: False, raising=False)
+    quiet = montecarlo._Progress(1000, 256, eta=3.0, force=False)
+    quiet.update(744)
+    quiet.close()
+    assert capsys.readouterr().err == ""
+    loud = montecarlo._Progress(100_000, 256, eta=200.0, force=False)
+    assert "Monte Carlo: 100000 trials, about 3 min" in capsys.readouterr().err
+    loud.update(1000)
+    assert capsys.readouterr().err == ""  # not 30 s yet
+    loud.last -= 31
+    loud.update(1000)
+    err = capsys.readouterr().err
+    assert "Monte Carlo: 2256 of 100000 trials (2.3 %), about" in err and "left" in err
