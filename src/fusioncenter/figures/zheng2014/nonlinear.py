@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from fusioncenter import censoring, context, plotting
+from fusioncenter import censoring, context, montecarlo, plotting
 from fusioncenter.censoring import nonlinear as cn
 from fusioncenter.context import Parameter
 from fusioncenter.figures.common import checks_doc, compute_doc, document, plot_doc
@@ -95,9 +95,19 @@ def _run_one(scheme: str, l: float, feedback: str, n: int, P: int, seed: int, ex
 
 
 def _sizes(profile: str, over: dict) -> tuple[int, int]:
-    """Trials and particles of a run of ``profile`` with the overrides ``over``."""
+    """Trials and particles of a run of ``profile`` with the overrides ``over`` (a
+    ``ValueError`` naming ``particles`` if a block of trials would not fit in memory)."""
     size = by_profile(profile, fast=SIZES["fast"], paper=SIZES["paper"])
-    return over.get("trials") or size["trials"], over.get("particles") or size["particles"]
+    n, P = over.get("trials") or size["trials"], over.get("particles") or size["particles"]
+    block = min(n, BLOCK)
+    montecarlo.check_memory("particles", P, block * P * BYTES_PER_PARTICLE,
+                            f"the particle filter's arrays for a block of {block} trials")
+    return n, P
+
+
+#: Bytes of a block per particle and trial, about (a block of 25 trials at 10^4 particles
+#: needs about 100 MB).
+BYTES_PER_PARTICLE = 400
 
 
 #: The overridable parameters of the filtering entries (Figs. 8-10, Table III).
