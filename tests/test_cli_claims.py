@@ -375,7 +375,13 @@ def test_params_shows_every_bound_and_bounds_are_checked_before_computing(capsys
     assert "l (float, 0 < l <= N;" in out and "N (int, 1 <= N <= 64;" in out
     assert "trials (int, 2 <= trials;" in out and "default fast 200, paper 5000" in out
     assert main(["params", "zheng2014-fig3"]) == 0
-    assert "2 <= trials_heavy <= trials;" in capsys.readouterr().out
+    assert "2 <= trials_heavy <= trials, a multiple of 256 below trials;" in \
+        capsys.readouterr().out
+    assert main(["compute", "zheng2014-fig3", "--json", "--set", "trials=1000", "--set",
+                 "trials_heavy=300"]) == 2
+    err = capsys.readouterr().err
+    assert "trials_heavy: below trials (1000) it must be a multiple of 256, got 300" in \
+        _one_line_error(err) and "computing" not in err
     for value, msg in (("5", "parameter l: must be <= N (2), got 5.0"),
                        ("0", "parameter l: must be > 0, got 0.0")):
         assert main(["compute", "zheng2014-fig1", "--json", "--set", f"l={value}"]) == 2

@@ -524,6 +524,9 @@ class Parameter:
         The name of another parameter of the entry that bounds this one from above
         (``l <= N``, ``trials_heavy <= trials``), checked on the values of the run before
         computing starts (:meth:`check_relations`).
+    multiple_below : int or None, default None
+        With ``at_most``: a value below the other parameter's must be a multiple of this
+        (``trials_heavy``: whole blocks of 256 trials).
 
     Raises
     ------
@@ -540,6 +543,7 @@ class Parameter:
     model: bool = False
     exclusive_minimum: bool = False
     at_most: str | None = None
+    multiple_below: int | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in ("int", "float", "floats"):
@@ -656,7 +660,9 @@ class Parameter:
         lo = "" if self.minimum is None else \
             f"{self.minimum:g} {'<' if self.exclusive_minimum else '<='} "
         hi = "".join(f" <= {h}" for h in his)
-        return f", {lo}{self.name}{hi}"
+        step = f", a multiple of {self.multiple_below} below {self.at_most}" \
+            if self.multiple_below and self.at_most else ""
+        return f", {lo}{self.name}{hi}{step}"
 
     def _default_text(self) -> str:
         d = self.default
@@ -681,6 +687,13 @@ class Parameter:
                 and values[self.name] > values[self.at_most]:
             raise ValueError(f"parameter {self.name}: must be <= {self.at_most} "
                              f"({values[self.at_most]}), got {values[self.name]!r}")
+        if self.at_most and self.multiple_below and self.at_most in values \
+                and values.get(self.name) is not None \
+                and values[self.name] < values[self.at_most] \
+                and values[self.name] % self.multiple_below:
+            raise ValueError(f"parameter {self.name}: below {self.at_most} "
+                             f"({values[self.at_most]}) it must be a multiple of "
+                             f"{self.multiple_below}, got {values[self.name]!r}")
 
 
 def _number(name: str, text: str, kind: str):
