@@ -16,11 +16,11 @@ run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
 The executor and the chunking are not part of the identity: they do not change the numbers.
 
 If the environment variable :data:`fusioncenter.figures.registry.CACHE_ENV` names a folder (the
-book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one pickle per
-identity without the trials, holding the longest run made, in the cache's format that cannot run
-code, :mod:`fusioncenter._cache`; written atomically, under a lock, so
-that a process needing a run another process is making waits and reads it): an entry computed
-in a fresh process then takes the runs another process made. That folder is the registry's
+book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one ``.npz``
+file per identity without the trials, holding the longest run made, in the cache's format that
+cannot run code and is checked when read, :mod:`fusioncenter._cache`; written atomically, under
+a lock, so that a process needing a run another process is making waits and reads it): an entry
+computed in a fresh process then takes the runs another process made. That folder is the registry's
 compute cache, and is wiped with it (the book's build wipes it whenever the library changes).
 Unset (the tests, the command line), a fresh process keeps nothing and computes every run.
 """
