@@ -474,9 +474,9 @@ def test_help_documents_the_cache_and_the_exit_codes():
 
 
 def test_list_params_and_a_misspelt_id_import_no_figure_module():
-    from fusioncenter.figures import _index as index
+    from fusioncenter.figures import registry
 
-    index.entries()  # the index is current (written again if the source changed)
+    registry.build_index()  # the index is current (written again if the source changed)
     code = ("import sys; from fusioncenter.cli import main\n"
             "for argv in (['list'], ['list', '--json'], ['params', 'zheng2014-table1'],\n"
             "             ['params', 'zheng2014-tabel1']):\n"
@@ -491,11 +491,15 @@ def test_list_params_and_a_misspelt_id_import_no_figure_module():
 
 
 def test_the_index_matches_the_registry():
+    from fusioncenter import _cache
     from fusioncenter.figures import _index as index
+    from fusioncenter.figures import registry
 
-    rows = json.loads(json.dumps(index.build()["entries"]))  # as stored
+    rows = registry.build_index(write=False)["entries"]
     assert [r["id"] for r in rows] == figures.ids()
-    assert index.entries() == rows
+    stored = json.loads(index.PATH.read_text())
+    if stored["source"] == _cache.fingerprint():  # a current index holds these rows
+        assert index.load() == stored["entries"] == rows
     for r in rows:
         e = figures.get(r["id"])
         assert r["settable_lines"] == e.settable_lines()
@@ -503,10 +507,19 @@ def test_the_index_matches_the_registry():
             json.loads(json.dumps(e.summary()))
 
 
-def test_compute_imports_only_the_module_of_its_entry():
+def test_a_stale_index_is_not_used(monkeypatch):
+    from fusioncenter import _cache
     from fusioncenter.figures import _index as index
 
-    index.entries()  # current
+    monkeypatch.setattr(index, "_CURRENT", [])
+    monkeypatch.setattr(_cache, "fingerprint", lambda: "changed source")
+    assert index.load() is None and index.find("dey2009-fig1") is None
+
+
+def test_compute_imports_only_the_module_of_its_entry():
+    from fusioncenter.figures import registry
+
+    registry.build_index()  # current
     code = ("import sys; from fusioncenter import figures\n"
             "e = figures.get(sys.argv[1]); assert e.id == sys.argv[1]\n"
             "print(sorted(m.split('.')[2] for m in sys.modules\n"

@@ -18,6 +18,7 @@ Only classes defined in :mod:`fusioncenter` are ever rebuilt (attributes set dir
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -26,11 +27,19 @@ import io
 import json
 import math
 import os
+import sys
 import threading
 from pathlib import Path
 
 FORMAT = 1
 SUFFIX = ".npz"
+#: Environment variable naming a folder where
+#: :meth:`fusioncenter.figures.registry.Entry.run_compute` keeps its results.
+CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
+
+
+class ComputeCacheError(OSError):
+    """A file of the compute cache (:data:`CACHE_ENV`) cannot be read back."""
 
 
 class CacheFormatError(ValueError):
@@ -217,3 +226,94 @@ def load(path: Path, key: dict):
     except (CacheFormatError, KeyError, TypeError, ValueError, AttributeError,
             ImportError) as exc:
         raise CacheFormatError(f"its contents cannot be decoded ({exc})") from None
+
+
+@contextlib.contextmanager
+def locked(path: Path):
+    """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
+    the same cache file take turns, so the second one reads what the first stored. (A process
+    that opened the file just before its removal may compute it once more: harmless, the
+    bytes are the same.)
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The lock file (its folder must exist).
+
+    Yields
+    ------
+    None
+        While the lock is held.
+    """
+    import fcntl
+
+    with path.open("a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            path.unlink(missing_ok=True)
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def distrust(path: Path, why: str) -> None:
+    """Warn on stderr that the cache file ``path`` is not used, and why."""
+    print(f"warning: compute cache file {path} not used: {why}; computing again",
+          file=sys.stderr)
+
+
+def read_cached(path: Path, key: dict) -> tuple:
+    """What a compute-cache file holds, if it was written under ``key`` by this library.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A file written by :func:`write_cached`.
+    key : dict
+        What the data are computed from (JSON-able); the library's version and source
+        fingerprint are added (:func:`full_key`).
+
+    Returns
+    -------
+    tuple
+        ``(True, data)`` for a sound file of the same key; ``(False, None)`` when the file is
+        stale (another key, another version of the library), or fails its integrity check,
+        or is not a cache file at all (then a warning naming it goes to stderr): the caller
+        computes again and overwrites it. Nothing in the file is ever executed.
+
+    Raises
+    ------
+    ComputeCacheError
+        If the file exists but cannot be read (permissions, an I/O error).
+    """
+    try:
+        return load(path, key)
+    except CacheFormatError as exc:
+        distrust(path, str(exc))
+        return False, None
+    except OSError as exc:
+        raise ComputeCacheError(
+            f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); delete "
+            f"it (or the folder {CACHE_ENV} names) and run again") from None
+
+
+def write_cached(path: Path, data, key: dict) -> None:
+    """Store ``data`` in a compute-cache file under ``key``, atomically (a temporary file
+    renamed), so that a reader never sees half a file. Data the format cannot hold (an
+    object that is neither plain data nor one of the library's dataclasses) are not stored.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (its folder must exist).
+    data : object
+        Dicts, lists, tuples, numbers, strings, NumPy arrays and scalars, the library's
+        dataclasses.
+    key : dict
+        As in :func:`read_cached`.
+    """
+    try:
+        dump(path, data, key)
+    except Unstorable as exc:
+        print(f"warning: {path.name} not stored in the compute cache (cannot store {exc})",
+              file=sys.stderr)

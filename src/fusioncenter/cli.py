@@ -322,8 +322,13 @@ def _compute(entry, args, over: dict):
 def _list(as_json: bool) -> int:
     from fusioncenter.figures import _index as index
 
+    rows = index.load()
+    if rows is None:  # the source changed since the index was written: build it again
+        from fusioncenter.figures import registry
+
+        rows = registry.build_index()["entries"]
     rows = [{k: v for k, v in r.items() if k not in ("module", "settable_lines")}
-            for r in index.entries()]
+            for r in rows]
     registry = sys.modules.get("fusioncenter.figures.registry")
     if registry is not None:  # entries registered in this process but not by the modules
         known = {r["id"] for r in rows}

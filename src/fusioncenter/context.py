@@ -50,7 +50,7 @@ from typing import Any
 
 from fusioncenter.profile import check_profile
 
-__all__ = ["EXECUTOR_ENV", "AUTO_POOL_SECONDS", "AutoPool", "ExecutionContext", "parse_executor",
+__all__ = ["EXECUTOR_ENV", "AUTO_POOL_SECONDS", "ExecutionContext", "parse_executor",
            "default_spec", "cores", "activate", "current", "executor", "workers", "shutdown"]
 
 #: Environment variable with the executor spec of the book build (and any process).
@@ -263,57 +263,21 @@ def executor() -> Executor | None:
     if ctx is None or ctx.executor == "serial":
         return None
     if ctx.executor == "auto":
-        return AutoPool()
+        return _AutoPool()
     return _pool(ctx.executor)
 
 
-class AutoPool:
-    """The executor of the ``auto`` spec: a pool of the cores (``processes:<cores>``), started
-    only if :func:`fusioncenter.montecarlo.simulate` finds a run long enough to repay it.
-
-    ``adaptive`` tells the Monte Carlo runner to decide; :meth:`choose` gives the executor to
-    use for the remaining blocks of a run.
-    """
+class _AutoPool:
+    """The executor of ``auto``: a pool of the cores, started only when
+    :func:`fusioncenter.montecarlo.simulate` (seeing ``adaptive``) finds a run that repays it."""
 
     adaptive = True
-
-    @staticmethod
-    def spec() -> str:
-        """The pool's spec.
-
-        Returns
-        -------
-        str
-            ``processes:<cores>``.
-        """
-        return f"processes:{cores()}"
-
-    def started(self) -> bool:
-        """Whether the pool is already running (then using it costs nothing more).
-
-        Returns
-        -------
-        bool
-        """
-        return self.spec() in _POOLS
+    spec = staticmethod(lambda: f"processes:{cores()}")
 
     def choose(self, serial_seconds: float):
-        """Where the rest of a run goes.
-
-        Parameters
-        ----------
-        serial_seconds : float
-            The estimated serial time of what is left of the run.
-
-        Returns
-        -------
-        concurrent.futures.Executor or None
-            The pool if ``serial_seconds`` exceeds :data:`AUTO_POOL_SECONDS` or the pool is
-            running (on a machine of several cores), else ``None`` (serial).
-        """
-        if cores() < 2:
-            return None
-        if self.started() or serial_seconds > AUTO_POOL_SECONDS:
+        """The pool if the rest of the run (``serial_seconds`` serially) repays starting it
+        (over :data:`AUTO_POOL_SECONDS`) or it runs already, else ``None`` (serial)."""
+        if cores() > 1 and (self.spec() in _POOLS or serial_seconds > AUTO_POOL_SECONDS):
             return _pool(self.spec())
         return None
 
@@ -577,7 +541,9 @@ class Parameter:
         import numpy as np
 
         if isinstance(value, str):
-            value = _number(self.name, value, kind)
+            from fusioncenter._numbers import number
+
+            value = number(self.name, value, kind)
         if isinstance(value, bool) or not isinstance(value, int | float | np.integer
                                                      | np.floating):
             raise ValueError(f"parameter {self.name}: expected a number, got {value!r}")
@@ -694,32 +660,6 @@ class Parameter:
             raise ValueError(f"parameter {self.name}: below {self.at_most} "
                              f"({values[self.at_most]}) it must be a multiple of "
                              f"{self.multiple_below}, got {values[self.name]!r}")
-
-
-def _number(name: str, text: str, kind: str):
-    """The number a ``--set`` value spells. Both kinds read Python's number syntax: digits
-    with optional ``_`` separators (``4_00`` is 400) and scientific notation (``1e3``); an
-    ``int`` accepts a scientific value only when it is a whole number (``1e3`` is 1000,
-    ``1.5`` and ``1e-3`` are refused), read exactly (no rounding through a float)."""
-    import re
-    from decimal import Decimal, InvalidOperation
-
-    t = text.strip()
-    try:
-        if re.search(r"(?<![0-9])_|_(?![0-9])", t):  # "_" only between digits, as in Python
-            raise ValueError
-        if kind != "int":
-            return float(t)
-        try:
-            return int(t)
-        except ValueError:
-            d = Decimal(t)
-            if not d.is_finite() or d != d.to_integral_value():
-                raise ValueError from None
-            return int(d)
-    except (ValueError, InvalidOperation):
-        what = "an integer" if kind == "int" else "a number"
-        raise ValueError(f"parameter {name}: expected {what}, got {t!r}") from None
 
 
 def check_overrides(entry_id: str, declared, overrides: dict) -> dict:

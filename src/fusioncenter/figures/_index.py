@@ -7,7 +7,8 @@ SciPy and matplotlib imports), and :func:`fusioncenter.figures.registry.get` imp
 module of the entry asked for. The index records the library's source fingerprint
 (:func:`fusioncenter._cache.fingerprint`): when the source has changed since it was written it is
 not used (everything is imported, as without an index) and it is written again where the
-package folder is writable. ``python -m fusioncenter.figures._index`` rewrites it;
+package folder is writable. ``python -m fusioncenter.figures._index`` rewrites it
+(:func:`fusioncenter.figures.registry.build_index`);
 ``tests/test_registry_cli.py`` checks that it matches the registry.
 """
 
@@ -21,35 +22,8 @@ from pathlib import Path
 PATH = Path(__file__).with_name("_index.json")
 
 
-def build() -> dict:
-    """The index of the registry as it is now (imports every figure module).
-
-    Returns
-    -------
-    dict
-        ``{"source": fingerprint, "entries": [summary + {"module": name, "settable_lines":
-        [...]}, ...]}`` in the order of :func:`fusioncenter.figures.registry.entries`.
-    """
-    import importlib
-
-    from fusioncenter import _cache
-    from fusioncenter.figures import registry
-
-    for name in registry._MODULES:
-        importlib.import_module(f"fusioncenter.figures.{name}")
-    module_of = registry.REGISTERED_BY
-    rows = []
-    for e in registry.entries():
-        if e.id not in module_of:  # registered outside the modules (a test's probe)
-            continue
-        rows.append({**e.summary(), "module": module_of[e.id],
-                     "settable_lines": e.settable_lines()})
-    return {"source": _cache.fingerprint(), "entries": rows}
-
-
-def write(index: dict | None = None) -> None:
-    """Write the index (atomically; silently nothing where the folder is not writable)."""
-    index = build() if index is None else index
+def write(index: dict) -> None:
+    """Write ``index`` (atomically; silently nothing where the folder is not writable)."""
     tmp = PATH.with_name(f"{PATH.name}.{os.getpid()}.tmp")
     try:
         tmp.write_text(json.dumps(index, indent=0, ensure_ascii=False) + "\n",
@@ -78,17 +52,6 @@ def load() -> list[dict] | None:
     return index["entries"]
 
 
-def entries() -> list[dict]:
-    """Every entry's row: from the index when it is current, else built (and written)."""
-    rows = load()
-    if rows is None:
-        index = build()
-        write(index)
-        rows = index["entries"]
-        _CURRENT[:] = [rows]
-    return rows
-
-
 def find(entry_id: str) -> dict | None:
     """The index row of ``entry_id`` (``None``: no such id, or no current index)."""
     rows = load()
@@ -97,6 +60,8 @@ def find(entry_id: str) -> dict | None:
     return next((r for r in rows if r["id"] == entry_id), None)
 
 
-if __name__ == "__main__":
-    write()
+if __name__ == "__main__":  # a script, not a dependency of the module
+    import importlib
+
+    importlib.import_module("fusioncenter.figures.registry").build_index()
     print(f"wrote {PATH} ({len(load() or [])} entries)", file=sys.stderr)

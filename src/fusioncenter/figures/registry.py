@@ -12,7 +12,6 @@ note says how and why).
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
@@ -25,6 +24,13 @@ from typing import Any
 import numpy as np
 
 from fusioncenter import _cache, context
+from fusioncenter._cache import (  # noqa: F401 (the cache's names, used by the figure modules)
+    CACHE_ENV,
+    ComputeCacheError,
+    locked,
+    read_cached,
+    write_cached,
+)
 from fusioncenter.context import Parameter
 from fusioncenter.profile import check_profile
 
@@ -70,17 +76,10 @@ PAPER_IDS: tuple[str, ...] = (
     *(f"zheng2014-table{i}" for i in range(1, 4)),
 )
 
-#: Environment variable naming a folder where
-#: :meth:`fusioncenter.figures.registry.Entry.run_compute` keeps its results.
-CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
 
 
 class EntryNotReady(RuntimeError):
     """The entry has no compute (or plot, or checks) yet: its status is ``not-started``."""
-
-
-class ComputeCacheError(OSError):
-    """A file of the compute cache (:data:`CACHE_ENV`) cannot be read back."""
 
 
 class UnknownEntry(KeyError):
@@ -360,7 +359,7 @@ class Entry:
                 if found and isinstance(data, dict):
                     return data
                 if found:
-                    _distrust(path, f"it holds a {type(data).__name__}, not a dict")
+                    _cache.distrust(path, f"it holds a {type(data).__name__}, not a dict")
             data = self._compute_in(ctx, compute, over)
             write_cached(path, data, key)
         return data
@@ -472,100 +471,6 @@ class Entry:
             "has_plot": self.plot is not None,
             "has_checks": self.checks is not None,
         }
-
-
-@contextlib.contextmanager
-def locked(path: Path):
-    """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
-    the same cache file take turns, so the second one reads what the first stored. (A process
-    that opened the file just before its removal may compute it once more: harmless, the
-    bytes are the same.)
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The lock file (its folder must exist).
-
-    Yields
-    ------
-    None
-        While the lock is held.
-    """
-    import fcntl
-
-    with path.open("a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            path.unlink(missing_ok=True)
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
-def _distrust(path: Path, why: str) -> None:
-    import sys
-
-    print(f"warning: compute cache file {path} not used: {why}; computing again",
-          file=sys.stderr)
-
-
-def read_cached(path: Path, key: dict) -> tuple[bool, Any]:
-    """What a compute-cache file holds, if it was written under ``key`` by this library.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        A file written by :func:`write_cached`.
-    key : dict
-        What the data are computed from (JSON-able); the library's version and source
-        fingerprint are added (:func:`fusioncenter._cache.full_key`).
-
-    Returns
-    -------
-    tuple
-        ``(True, data)`` for a sound file of the same key; ``(False, None)`` when the file is
-        stale (another key, another version of the library), or fails its integrity check,
-        or is not a cache file at all (then a warning naming it goes to stderr): the caller
-        computes again and overwrites it. Nothing in the file is ever executed.
-
-    Raises
-    ------
-    ComputeCacheError
-        If the file exists but cannot be read (permissions, an I/O error).
-    """
-    try:
-        return _cache.load(path, key)
-    except _cache.CacheFormatError as exc:
-        _distrust(path, str(exc))
-        return False, None
-    except OSError as exc:
-        raise ComputeCacheError(
-            f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); delete "
-            f"it (or the folder {CACHE_ENV} names) and run again") from None
-
-
-def write_cached(path: Path, data, key: dict) -> None:
-    """Store ``data`` in a compute-cache file under ``key``, atomically (a temporary file
-    renamed), so that a reader never sees half a file. Data the format cannot hold (an
-    object that is neither plain data nor one of the library's dataclasses) are not stored.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file (its folder must exist).
-    data : object
-        Dicts, lists, tuples, numbers, strings, NumPy arrays and scalars, the library's
-        dataclasses.
-    key : dict
-        As in :func:`read_cached`.
-    """
-    try:
-        _cache.dump(path, data, key)
-    except _cache.Unstorable as exc:
-        import sys
-
-        print(f"warning: {path.name} not stored in the compute cache (cannot store {exc})",
-              file=sys.stderr)
 
 
 REGISTRY: dict[str, Entry] = {}
@@ -693,6 +598,32 @@ def entries() -> list[Entry]:
     """
     _load()
     return sorted(REGISTRY.values(), key=_order)  # stable: own entries keep their order
+
+
+def build_index(write: bool = True) -> dict:
+    """The registry's index as it is now (imports every figure module): what
+    ``fusioncenter list`` and ``params`` read (:mod:`fusioncenter.figures._index`).
+
+    Parameters
+    ----------
+    write : bool, default True
+        Also write it to the index file (where the package folder is writable).
+
+    Returns
+    -------
+    dict
+        ``{"source": fingerprint, "entries": [summary + "module" + "settable_lines"]}``.
+    """
+    import json as _json
+
+    from fusioncenter.figures import _index
+
+    rows = [{**e.summary(), "module": REGISTERED_BY[e.id], "settable_lines": e.settable_lines()}
+            for e in entries() if e.id in REGISTERED_BY]
+    index = _json.loads(_json.dumps({"source": _cache.fingerprint(), "entries": rows}))
+    if write:
+        _index.write(index)
+    return index
 
 
 #: Modules that register entries: the book's own and one per part. Each may list the ids of the

@@ -111,10 +111,26 @@ def run_size(profile: str, trials: dict, particles: dict, over: dict) -> tuple[i
     """
     n = over.get("trials") or by_profile(profile, **trials)
     P = over.get("particles") or by_profile(profile, **particles)
-    block = min(n, montecarlo.DEFAULT_BLOCK_SIZE)
-    montecarlo.check_memory("particles", P, block * P * PARTICLE_BYTES,
-                            f"the particle filter's arrays for a block of {block} trials")
+    check_block(P, min(n, montecarlo.DEFAULT_BLOCK_SIZE))
     return n, P
+
+
+def check_block(P: int, block: int, per_particle: int = 0) -> int:
+    """Check that a block of the particle filter fits in memory.
+
+    Parameters
+    ----------
+    P, block, per_particle : int
+        Particles, trials of a block, bytes a particle and trial (0: :data:`PARTICLE_BYTES`).
+
+    Returns
+    -------
+    int
+        ``P``; a ``ValueError`` naming ``particles`` with the estimate if it does not fit.
+    """
+    montecarlo.check_memory("particles", P, block * P * (per_particle or PARTICLE_BYTES),
+                            f"the particle filter's arrays for a block of {block} trials")
+    return P
 
 
 #: Bytes the particle filter holds per particle and trial of a block, about (states, their

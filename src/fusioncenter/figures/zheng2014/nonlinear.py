@@ -25,12 +25,12 @@ import math
 
 import numpy as np
 
-from fusioncenter import censoring, context, montecarlo, plotting
+from fusioncenter import censoring, context, plotting
 from fusioncenter.censoring import nonlinear as cn
 from fusioncenter.context import Parameter
 from fusioncenter.figures.common import checks_doc, compute_doc, document, plot_doc
 from fusioncenter.figures.registry import Claim
-from fusioncenter.figures.zheng2014.common import RAISES, add_entry, settable
+from fusioncenter.figures.zheng2014.common import RAISES, add_entry, check_block, settable
 from fusioncenter.figures.zheng2014.contrasts import contrast, tx_contrast, z_score
 from fusioncenter.profile import by_profile
 
@@ -95,19 +95,9 @@ def _run_one(scheme: str, l: float, feedback: str, n: int, P: int, seed: int, ex
 
 
 def _sizes(profile: str, over: dict) -> tuple[int, int]:
-    """Trials and particles of a run of ``profile`` with the overrides ``over`` (a
-    ``ValueError`` naming ``particles`` if a block of trials would not fit in memory)."""
-    size = by_profile(profile, fast=SIZES["fast"], paper=SIZES["paper"])
-    n, P = over.get("trials") or size["trials"], over.get("particles") or size["particles"]
-    block = min(n, BLOCK)
-    montecarlo.check_memory("particles", P, block * P * BYTES_PER_PARTICLE,
-                            f"the particle filter's arrays for a block of {block} trials")
-    return n, P
-
-
-#: Bytes of a block per particle and trial, about (a block of 25 trials at 10^4 particles
-#: needs about 100 MB).
-BYTES_PER_PARTICLE = 400
+    """Trials and particles of a run (checked to fit: 400 bytes a particle in a block)."""
+    n, P = (over.get(k) or by_profile(profile, **SIZES)[k] for k in ("trials", "particles"))
+    return n, check_block(P, min(n, BLOCK), 400)
 
 
 #: The overridable parameters of the filtering entries (Figs. 8-10, Table III).
