@@ -40,6 +40,8 @@ HEAVY = (
     "test_censoring_vector.py::test_printed_proposition6_does_not_sum_to_one",
     "test_context.py::test_data_are_bitwise_identical_under_every_executor",
     "test_cli_claims.py::test_module_entry_point_exit_codes",
+    "test_interrupts.py::test_cli_signal_ends_the_run_and_its_pool",
+    "test_interrupts.py::test_cli_a_dask_scheduler_killed_mid_run_exits_3",
     "test_registry_texts.py::test_claims_print_no_ascii_math_or_repr",
     "test_registry_texts.py::test_censoring_compare_claims_are_typeset",
 )

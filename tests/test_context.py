@@ -14,6 +14,7 @@ from fusioncenter.figures import dey2009, zheng2014
 # ------------------------------------------------------------------------ executor specs
 def test_executor_specs_are_validated_and_normalised():
     assert context.parse_executor("serial") == "serial"
+    assert context.parse_executor(" auto ") == "auto"
     assert context.parse_executor(" processes:3 ") == "processes:3"
     assert context.parse_executor("processes") == f"processes:{context.cores()}"
     assert context.parse_executor("dask:local") == "dask:local"
@@ -26,7 +27,7 @@ def test_executor_specs_are_validated_and_normalised():
 def test_default_spec_and_environment(monkeypatch):
     monkeypatch.delenv(context.EXECUTOR_ENV, raising=False)
     assert context.default_spec("fast") == "serial"
-    expected = "serial" if context.cores() == 1 else f"processes:{context.cores()}"
+    expected = "serial" if context.cores() == 1 else "auto"
     assert context.default_spec("paper") == expected
     monkeypatch.setenv(context.EXECUTOR_ENV, "processes:2")
     assert context.default_spec("fast") == "processes:2"
@@ -205,4 +206,73 @@ def test_parallel_computes_of_one_entry_share_the_cache(monkeypatch, tmp_path):
         t.join()
     assert calls == [3] and len(out) == 3
     assert all(np.array_equal(o["x"], np.arange(4.0)) for o in out)
-    assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.pickle"]
+    assert [p.name for p in tmp_path.iterdir()] == ["book-lock-probe.fast.3.npz"]
+
+
+# ------------------------------------------------------------------------ the auto executor
+def _draws(rng, n):
+    return rng.standard_normal((n, 3))
+
+
+def test_auto_starts_a_pool_only_for_a_run_that_repays_it(monkeypatch):
+    """``auto``: a short run stays serial (no pool is started); a run whose serial time
+    would exceed AUTO_POOL_SECONDS goes to the pool; the numbers are the same bitwise."""
+    from concurrent.futures import Future
+
+    from fusioncenter import montecarlo
+
+    started, submitted = [], []
+
+    class Pool:
+        def submit(self, fn, *args):
+            submitted.append(args)
+            f = Future()
+            f.set_result(fn(*args))
+            return f
+
+    def fake_pool(spec):
+        started.append(spec)
+        return Pool()
+
+    monkeypatch.setattr(context, "_pool", fake_pool)
+    monkeypatch.setattr(context, "cores", lambda: 2)
+    serial = montecarlo.simulate(_draws, 5000, 7).samples
+    with context.activate(context.ExecutionContext("paper", 7, "auto")):
+        ex = context.executor()
+        assert getattr(ex, "adaptive", False)
+        short = montecarlo.simulate(_draws, 5000, 7, executor=ex).samples
+        assert started == [] and submitted == []  # milliseconds of work: serial
+        monkeypatch.setattr(context, "AUTO_POOL_SECONDS", 0.0)  # as if the run were long
+        long = montecarlo.simulate(_draws, 5000, 7, executor=context.executor()).samples
+        assert started == ["processes:2"] and submitted
+    assert short.tobytes() == serial.tobytes() == long.tobytes()
+
+
+def test_auto_is_the_paper_default_and_documented(monkeypatch, capsys):
+    from fusioncenter.cli import main
+
+    monkeypatch.delenv(context.EXECUTOR_ENV, raising=False)
+    assert context.parse_executor("auto") == "auto"
+    assert main(["params", "zheng2014-table1"]) == 0
+    out = capsys.readouterr().out
+    assert "auto" in out and "about 5 s" in out
+
+
+def test_progress_of_a_long_run_only(capsys, monkeypatch):
+    """Progress on stderr (not a terminal): a first line with the estimate, then a line every
+    30 s; nothing for a run expected to end within seconds."""
+    from fusioncenter import montecarlo
+
+    monkeypatch.setattr("sys.stderr.isatty", lambda: False, raising=False)
+    quiet = montecarlo._Progress(1000, 256, eta=3.0, force=False)
+    quiet.update(744)
+    quiet.close()
+    assert capsys.readouterr().err == ""
+    loud = montecarlo._Progress(100_000, 256, eta=200.0, force=False)
+    assert "Monte Carlo: 100000 trials, about 3 min" in capsys.readouterr().err
+    loud.update(1000)
+    assert capsys.readouterr().err == ""  # not 30 s yet
+    loud.last -= 31
+    loud.update(1000)
+    err = capsys.readouterr().err
+    assert "Monte Carlo: 2256 of 100000 trials (2.3 %), about" in err and "left" in err

@@ -225,7 +225,7 @@ def test_kept_runs_are_stored_in_the_compute_cache(tmp_path, monkeypatch):
     monkeypatch.setenv(registry.CACHE_ENV, str(tmp_path))
     sc, kw = cs.LinearScenario(N=2), dict(l=1.0, P=20, seed=9)
     made = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
-    assert len(list((tmp_path / "zheng2014-runs").glob("*.pickle"))) == 1
+    assert len(list((tmp_path / "zheng2014-runs").glob("*.npz"))) == 1
     runs.forget_runs()  # a fresh process: read back, not run again
 
     def no_run(*args, **kwargs):
@@ -240,8 +240,16 @@ def test_kept_runs_are_stored_in_the_compute_cache(tmp_path, monkeypatch):
     with pytest.raises(AssertionError, match="ran again"):  # more trials: run
         runs.kept_run(sc, "cfomd", feedback="state", n=768, **kw)
     runs.forget_runs()
-    for f in (tmp_path / "zheng2014-runs").glob("*.pickle"):
-        f.write_bytes(b"broken")
+    for f in (tmp_path / "zheng2014-runs").glob("*.npz"):
+        f.write_bytes(b"broken")  # not served: run again (and stored again)
+    monkeypatch.undo()
+    monkeypatch.setenv(registry.CACHE_ENV, str(tmp_path))
+    again = runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
+    assert np.array_equal(again.mc.samples, made.mc.samples)
+    runs.forget_runs()
+    for f in (tmp_path / "zheng2014-runs").glob("*.npz"):
+        f.unlink()
+        f.mkdir()  # there, but unreadable
     with pytest.raises(registry.ComputeCacheError, match="unreadable"):
         runs.kept_run(sc, "cfomd", feedback="state", n=512, **kw)
     runs.forget_runs()

@@ -145,3 +145,85 @@ def test_descendants_and_kill_tree(tmp_path):
     while _alive(kernel) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not _alive(kernel)
+
+
+# --------------------------------------------------- the command line's own process pool
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_cli_signal_ends_the_run_and_its_pool(sig):
+    """SIGTERM (like Ctrl-C) to ``fusioncenter compute --executor processes:2``: exit 143
+    (130), one line ``error: ...``, and no worker or resource tracker left behind."""
+    root = Path(__file__).resolve().parent.parent
+    env = {**os.environ, "PYTHONPATH": str(root / "src")}
+    env.pop("FUSIONCENTER_COMPUTE_CACHE", None)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "fusioncenter", "compute", "zheng2014-fig1", "--json",
+         "--executor", "processes:2", "--set", "trials=20000", "--set", "particles=1000"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    deadline = time.monotonic() + 180
+    kids: list[int] = []
+    while len(kids) < 3:  # two workers and the resource tracker
+        assert proc.poll() is None, "the run ended before the signal"
+        assert time.monotonic() < deadline, "the pool did not start"
+        time.sleep(0.2)
+        kids = procs.descendants(proc.pid)
+    time.sleep(1.0)  # the workers are computing
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + sig, err
+    errors = [ln for ln in err.splitlines() if ln.startswith("error:")]
+    assert errors == ["error: interrupted" if sig == signal.SIGINT
+                      else "error: terminated (SIGTERM)"], err
+    assert "Traceback" not in err
+    deadline = time.monotonic() + 10
+    while any(_alive(k) for k in kids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not [k for k in kids if _alive(k)], "pool workers or the resource tracker survived"
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_cli_a_dask_scheduler_killed_mid_run_exits_3():
+    """The scheduler of ``--executor dask:ADDRESS`` dies while the trials run: one line
+    ``error: ...`` and exit 3 (not 1, which means a failed claim), no traceback."""
+    pytest.importorskip("distributed")
+    root = Path(__file__).resolve().parent.parent
+    env = {**os.environ, "PYTHONPATH": str(root / "src")}
+    env.pop("FUSIONCENTER_COMPUTE_CACHE", None)
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    sched = subprocess.Popen([*dask, "--host", "127.0.0.1", "--port", str(port),
+                              "--no-dashboard"], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, env=env, start_new_session=True)
+    worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address,
+                               "--nthreads", "1", "--nworkers", "2", "--no-dashboard"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+                              start_new_session=True)
+    try:
+        cli = subprocess.Popen(
+            [sys.executable, "-m", "fusioncenter", "compute", "zheng2014-fig1", "--json",
+             "--executor", f"dask:{address}", "--set", "trials=20000", "--set",
+             "particles=1000"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            env=env)
+        line = ""
+        while not line.startswith("Monte Carlo:"):  # the blocks are on the cluster
+            line = cli.stderr.readline()
+            assert line or cli.poll() is None, "the run ended before the scheduler was killed"
+        time.sleep(2.0)
+        sched.kill()
+        err = line + cli.stderr.read()
+        cli.wait(timeout=120)
+        assert cli.returncode == 3, err
+        errors = [ln for ln in err.splitlines() if ln.startswith("error:")]
+        assert len(errors) == 1 and "Traceback" not in err, err
+    finally:
+        for p in (worker, sched):
+            if p.poll() is None:
+                procs.kill_tree(p.pid)
+            p.wait(timeout=30)

@@ -251,5 +251,5 @@ def test_compute_cache_is_used_only_when_the_build_names_a_folder(monkeypatch, t
     assert np.array_equal(a["x"], b["x"]) and b["profile"] == "fast"
     assert c["x"][0] == 2.0 and d["profile"] == "paper"
     assert sorted(p.name for p in (tmp_path / "cache").iterdir()) == [
-        "book-cache-probe.fast.1.pickle", "book-cache-probe.fast.2.pickle",
-        "book-cache-probe.paper.1.pickle"]
+        "book-cache-probe.fast.1.npz", "book-cache-probe.fast.2.npz",
+        "book-cache-probe.paper.1.npz"]

@@ -68,15 +68,13 @@ def test_every_heavy_test_exists():
 def test_figure_helpers_read_the_runs_shared_cache(tmp_path, monkeypatch):
     """make test's library stage reads an entry that nbval's kernels computed (the run's compute
     cache) instead of computing it again; without the variable it computes."""
-    import pickle
-
     import figure_helpers
 
-    from fusioncenter import figures
+    from fusioncenter import _cache, figures
 
     entry = figures.get("mo2015-rate")
-    (tmp_path / f"{entry.id}.fast.{entry.seed}.pickle").write_bytes(
-        pickle.dumps({"stored by": "a kernel"}))
+    key = {"id": entry.id, "profile": "fast", "seed": entry.seed, "overrides": []}
+    _cache.dump(tmp_path / f"{entry.id}.fast.{entry.seed}.npz", {"stored by": "a kernel"}, key)
     monkeypatch.setenv(figure_helpers.SHARED_CACHE, str(tmp_path))
     figure_helpers.cached_data.cache_clear()
     try:

@@ -11,48 +11,60 @@ Usage::
 Common options: ``--profile fast|paper`` (default: the environment variable
 FUSIONCENTER_PROFILE, else fast), ``--seed N``,
 ``--executor serial|processes[:N]|dask:local|dask:ADDRESS`` (default: FUSIONCENTER_EXECUTOR,
-else a process pool in the paper profile) and ``--set KEY=VALUE`` (repeatable) for the entry's
-documented parameters (``params ID`` lists them). Flags win over the environment.
+else ``auto``: serial, switching to a pool of the cores only for a Monte Carlo run long enough
+to repay its start-up) and ``--set KEY=VALUE`` (repeatable, each key once) for the entry's
+documented parameters (``params ID`` lists them with every bound). Flags win over the
+environment. Values read Python's number syntax (``4_00`` is 400; ``1e3`` is 1000, also for an
+integer parameter when the value is whole). Every bound, also one between two parameters
+(``0 < l <= N``), is checked before computing starts, and so is the memory a run needs.
 
-Data go to stdout (or the named file), progress and messages to stderr. ``--json`` is strict
-JSON (RFC 8259): NumPy arrays become lists, NumPy scalars numbers, and the non-finite floats the
-strings ``"NaN"``, ``"Infinity"`` and ``"-Infinity"`` (the only encoding of them). The output
-records how it was computed under the key ``"_run"`` (id, profile, seed, executor, parameters).
+The environment variable FUSIONCENTER_COMPUTE_CACHE, if it names a folder, keeps every computed
+entry there (one ``.npz`` file per id, profile, seed and overrides, keyed by the library's
+version and source fingerprint, with an integrity check; a stale, edited or planted file is
+never served) and later runs read it back; unset, every run computes.
+
+Data go to stdout (or the named file; ``--csv -`` is stdout), progress and messages to stderr.
+``--json`` is strict JSON (RFC 8259): NumPy arrays become lists, NumPy scalars numbers, and the
+non-finite floats the strings ``"NaN"``, ``"Infinity"`` and ``"-Infinity"`` (the only encoding
+of them). The output records how it was computed under the key ``"_run"`` (id, profile, seed,
+executor, parameters).
 
 Exit codes:
 
 * 0 success;
 * 1 a claim failed (``verify``);
-* 2 bad usage: unknown id or option, an entry not started yet, a bad ``--set`` key or value or
-  any other invalid value (a ``ValueError`` of the library);
+* 2 bad usage: unknown id or option, an entry not started yet, a bad or repeated ``--set`` key
+  or value, a bound broken, a run too large for the machine's memory (the estimate is in the
+  message), or any other invalid value (a ``ValueError`` of the library);
 * 3 a runtime or I/O error: an unwritable output path, an unreadable compute-cache file, an
-  unreachable Dask scheduler, a crashed worker;
-* 130 interrupted (Ctrl-C).
+  unreachable or lost Dask scheduler, a crashed worker, memory exhausted while computing;
+* 4 an internal error (a bug: the traceback is printed; please report it);
+* 130 interrupted (Ctrl-C), 143 terminated (SIGTERM): the run and its worker processes stop.
 
-Errors of the user (codes 2 and 3) print one line ``error: ...`` and no traceback.
+Errors of codes 2, 3, 130 and 143 print one line ``error: ...`` and no traceback.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import json
 import math
 import os
+import signal
 import sys
 import time
 from pathlib import Path
 
-import matplotlib
-import numpy as np
+from fusioncenter.profile import ENV_VAR as PROFILE_ENV
+from fusioncenter.profile import PROFILES, current_profile
 
-matplotlib.use("Agg")  # the command line only writes files; before pyplot is imported anywhere
+CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
+EXECUTOR_ENV = "FUSIONCENTER_EXECUTOR"
 
-from fusioncenter import context, figures  # noqa: E402
-from fusioncenter.profile import ENV_VAR as PROFILE_ENV  # noqa: E402
-from fusioncenter.profile import PROFILES, current_profile  # noqa: E402
-
-EXIT_OK, EXIT_CLAIM, EXIT_USAGE, EXIT_RUNTIME, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+EXIT_OK, EXIT_CLAIM, EXIT_USAGE, EXIT_RUNTIME, EXIT_INTERNAL = 0, 1, 2, 3, 4
+EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
 
 #: How non-finite floats are written in JSON (strict JSON has no NaN or infinity).
 NONFINITE_JSON = {"nan": "NaN", "inf": "Infinity", "-inf": "-Infinity"}
@@ -82,13 +94,15 @@ def jsonable(value):
         (finite), ``bool`` or ``None``, which ``json.dumps(..., allow_nan=False)`` accepts.
         Tuples and sets become lists (a set in its iteration order).
     """
+    np = sys.modules.get("numpy")  # no NumPy object exists before NumPy is imported
+
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple | set | frozenset):
         return [jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
+    if np is not None and isinstance(value, np.ndarray):
         return jsonable(value.tolist())
-    if isinstance(value, np.generic):
+    if np is not None and isinstance(value, np.generic):
         return jsonable(value.item())
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return value
@@ -117,7 +131,7 @@ def dumps(value) -> str:
     return json.dumps(jsonable(value), allow_nan=False)
 
 
-def write_csv(data: dict, path: Path, run: dict | None = None) -> None:
+def write_csv(data: dict, path, run: dict | None = None) -> None:
     """Long format ``name,index,value``: one row per element of every array or scalar.
 
     ``index`` is the element's position (``i`` or ``i;j;...`` for arrays of several axes), empty
@@ -131,8 +145,8 @@ def write_csv(data: dict, path: Path, run: dict | None = None) -> None:
         ``numpy.asarray``: a number or a numeric (or string) array gives one row per element;
         a value NumPy can only hold as an ``object`` array (a dict, ``None``, a ragged list)
         gives one row whose value is :func:`dumps` of it.
-    path : str or pathlib.Path
-        The file to write (created or overwritten).
+    path : str or pathlib.Path or file
+        The file to write (created or overwritten), or an open text file (``sys.stdout``).
     run : dict, optional
         How the data were computed (the ``"_run"`` record of the command line): a ``str`` or
         ``int`` value is written as it is, anything else as :func:`dumps` of it.
@@ -147,8 +161,11 @@ def write_csv(data: dict, path: Path, run: dict | None = None) -> None:
     OSError
         If ``path`` cannot be opened for writing.
     """
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
+    import numpy as np
+
+    with contextlib.nullcontext(path) if hasattr(path, "write") else \
+            open(path, "w", newline="") as fh:
+        w = csv.writer(fh, lineterminator="\n" if hasattr(path, "write") else "\r\n")
         w.writerow(["name", "index", "value"])
         for key, value in (run or {}).items():
             w.writerow(["_run", key, value if isinstance(value, str | int) else dumps(value)])
@@ -163,16 +180,34 @@ def write_csv(data: dict, path: Path, run: dict | None = None) -> None:
                     w.writerow([name, ";".join(map(str, idx)), arr[idx].item()])
 
 
+EPILOG = f"""environment:
+  {PROFILE_ENV}      default profile (fast or paper)
+  {EXECUTOR_ENV}     default executor (auto, serial, processes[:N], dask:...)
+  {CACHE_ENV}  a folder: computed entries are kept there and read back
+      (npz files keyed by id, profile, seed, overrides and the library's version and
+      source fingerprint, with an integrity check; a stale or altered file is computed
+      again); unset: every run computes
+
+exit codes: 0 ok, 1 a claim failed, 2 bad usage (bad id, option, --set value or bound,
+  a run too large for the memory), 3 runtime or I/O error (output, cache, workers,
+  scheduler, memory exhausted), 4 internal error, 130 interrupted, 143 terminated
+"""
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m fusioncenter", description=__doc__.split("\n")[0],
-                                epilog="exit codes: 0 ok, 1 a claim failed, 2 bad usage, "
-                                "3 runtime or I/O error, 130 interrupted")
+    p = argparse.ArgumentParser(prog="fusioncenter", description=__doc__.split("\n")[0],
+                                epilog=EPILOG,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="cmd", required=True)
 
-    sp = sub.add_parser("list", help="list every figure and table with its status")
+    def add(name, **kw):
+        return sub.add_parser(name, epilog=EPILOG,
+                              formatter_class=argparse.RawDescriptionHelpFormatter, **kw)
+
+    sp = add("list", help="list every figure and table with its status")
     sp.add_argument("--json", action="store_true", help="machine-readable output")
 
-    sp = sub.add_parser("params", help="list an entry's parameters that --set may override")
+    sp = add("params", help="list an entry's parameters that --set may override")
     sp.add_argument("id", help="registry id, e.g. zheng2014-table1")
 
     def common(sp):
@@ -181,23 +216,26 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"default: ${PROFILE_ENV}, else fast")
         sp.add_argument("--seed", type=int, default=None, help="non-negative integer")
         sp.add_argument("--executor", default=None, metavar="SPEC",
-                        help="serial, processes[:N], dask:local or dask:ADDRESS (default: "
-                        f"${context.EXECUTOR_ENV}, else processes:<cores> in the paper profile)")
+                        help="auto, serial, processes[:N], dask:local or dask:ADDRESS "
+                        f"(default: ${EXECUTOR_ENV}, else auto: serial, or a pool of the "
+                        "cores for a Monte Carlo run long enough to repay its ~5 s start-up)")
         sp.add_argument("--set", dest="overrides", action="append", default=[],
-                        metavar="KEY=VALUE", help="override a parameter (see `params ID`)")
+                        metavar="KEY=VALUE", help="override a parameter (see `params ID`); "
+                        "each key at most once")
 
-    sp = sub.add_parser("compute", help="compute an entry's data")
+    sp = add("compute", help="compute an entry's data")
     common(sp)
     out = sp.add_mutually_exclusive_group(required=True)
     out.add_argument("--json", action="store_true", help="write JSON to stdout")
-    out.add_argument("--csv", metavar="FILE", type=Path, help="write long-format CSV to FILE")
+    out.add_argument("--csv", metavar="FILE", type=Path,
+                     help="write long-format CSV to FILE (`-`: standard output)")
 
-    sp = sub.add_parser("plot", help="compute and plot an entry into a directory")
+    sp = add("plot", help="compute and plot an entry into a directory")
     common(sp)
     sp.add_argument("-o", "--outdir", type=Path, required=True)
     sp.add_argument("--format", choices=["png", "pdf", "svg"], default="png")
 
-    sp = sub.add_parser("verify", help="compute an entry and check the paper's claims on it")
+    sp = add("verify", help="compute an entry and check the paper's claims on it")
     common(sp)
     return p
 
@@ -208,8 +246,37 @@ def _overrides(pairs: list[str]) -> dict:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
             raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
-        out[key.strip()] = value
+        key = key.strip()
+        if key in out:
+            raise ValueError(f"--set {key} given twice ({out[key]!r} and {value!r}); give each "
+                             "key once")
+        out[key] = value
     return out
+
+
+class _UnknownId(ValueError):
+    """An id that neither the index nor the registry knows (exit 2)."""
+
+
+def _known(entry_id: str) -> None:
+    """Refuse an unknown id from the index, before importing any figure module."""
+    from fusioncenter.figures import _index as index
+
+    registry = sys.modules.get("fusioncenter.figures.registry")
+    if registry is not None and entry_id in registry.REGISTRY:
+        return
+    rows = index.load()
+    if rows is None:  # no current index: the registry decides (imports every module)
+        return
+    ids = [r["id"] for r in rows]
+    if entry_id in ids:
+        return
+    import difflib
+
+    near = difflib.get_close_matches(entry_id, ids, n=3)
+    hint = f"; did you mean {', '.join(near)}?" if near else ""
+    raise _UnknownId(f"unknown figure/table id {entry_id!r}{hint} (`fusioncenter list` shows "
+                     "all)")
 
 
 def _writable_file(path: Path) -> None:
@@ -246,42 +313,99 @@ def _compute(entry, args, over: dict):
     print(f"computing {entry.id} (profile {args.profile}, executor {args.executor}"
           + (f", {', '.join(f'{k}={v}' for k, v in over.items())}" if over else "") + ")...",
           file=sys.stderr)
-    data = entry.run_compute(args.profile, args.seed, executor=args.executor, **over)
+    data = entry.run_compute(args.profile, args.seed, executor=args.executor, progress=True,
+                             **over)
     print(f"computed {entry.id} in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return data
 
 
+def _list(as_json: bool) -> int:
+    from fusioncenter.figures import _index as index
+
+    rows = index.load()
+    if rows is None:  # the source changed since the index was written: build it again
+        from fusioncenter.figures import registry
+
+        rows = registry.build_index()["entries"]
+    rows = [{k: v for k, v in r.items() if k not in ("module", "settable_lines")}
+            for r in rows]
+    registry = sys.modules.get("fusioncenter.figures.registry")
+    if registry is not None:  # entries registered in this process but not by the modules
+        known = {r["id"] for r in rows}
+        rows += [e.summary() for e in registry.REGISTRY.values() if e.id not in known]
+    if as_json:
+        sys.stdout.write(dumps(rows) + "\n")
+        return EXIT_OK
+    width = max(len(r["id"]) for r in rows)
+    for r in rows:
+        print(f"{r['id']:<{width}}  {r['status']:<11}  {r['caption'][:70]}")
+    return EXIT_OK
+
+
+def _params(entry_id: str) -> int:
+    from fusioncenter.figures import _index as index
+
+    row = index.find(entry_id)
+    registry = sys.modules.get("fusioncenter.figures.registry")
+    if row is not None and not (registry is not None and entry_id in registry.REGISTRY
+                                and registry.REGISTRY[entry_id].settable_lines()
+                                != row["settable_lines"]):
+        lines = row["settable_lines"]
+    else:
+        from fusioncenter import figures
+
+        lines = figures.get(entry_id).settable_lines()
+    for line in lines:
+        print(line)
+    print("Bounds are checked before computing; --executor auto (the paper profile's default) "
+          "starts a pool only for a Monte Carlo run of more than about "
+          "10 s serially (a pool's start-up is about 5 s).")
+    return EXIT_OK
+
+
 def _main(args) -> int:
     if args.cmd == "list":
-        rows = [e.summary() for e in figures.entries()]
-        if args.json:
-            sys.stdout.write(dumps(rows) + "\n")
-        else:
-            width = max(len(r["id"]) for r in rows)
-            for r in rows:
-                print(f"{r['id']:<{width}}  {r['status']:<11}  {r['caption'][:70]}")
-        return EXIT_OK
-    entry = figures.get(args.id)
+        return _list(args.json)
+    _known(args.id)
     if args.cmd == "params":
-        if not entry.settable:
-            print(f"{entry.id}: no parameters to override")
-        for p in entry.settable:
-            print(p.describe() + ("  [changes the paper's setting]" if p.model else ""))
-        return EXIT_OK
+        return _params(args.id)
 
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command line only writes files; before pyplot is imported
+
+    from fusioncenter import context, figures
+
+    entry = figures.get(args.id)
     if args.seed is not None and args.seed < 0:
         raise ValueError(f"--seed must be a non-negative integer, got {args.seed}")
     args.profile = args.profile or current_profile()
     args.executor = context.parse_executor(args.executor) if args.executor is not None \
         else context.default_spec(args.profile)
     over = entry.check_overrides(_overrides(args.overrides))
+    entry.check_bounds(args.profile, over)
+    if args.executor.startswith("dask:"):  # its client logs tracebacks of a lost scheduler
+        import logging
+
+        with contextlib.suppress(ImportError):  # it configures its loggers: quieten them
+            import distributed  # noqa: F401
+
+        for name in list(logging.root.manager.loggerDict):
+            if name.split(".")[0] in ("distributed", "tornado"):
+                logging.getLogger(name).setLevel(logging.CRITICAL)
+        for name in ("distributed", "tornado"):
+            logging.getLogger(name).setLevel(logging.CRITICAL)
+    to_stdout = args.cmd == "compute" and args.csv is not None and str(args.csv) == "-"
     if args.cmd == "compute":
-        if args.csv is not None:
+        if args.csv is not None and not to_stdout:
             _writable_file(args.csv)
         data = _compute(entry, args, over)
         run = _run_info(entry, args, over)
         if args.json:
             sys.stdout.write(dumps({**data, "_run": run}) + "\n")
+        elif to_stdout:
+            write_csv(data, sys.stdout, run)
+            sys.stdout.flush()
         else:
             write_csv(data, args.csv, run)
             print(f"wrote {args.csv}", file=sys.stderr)
@@ -313,8 +437,40 @@ def _main(args) -> int:
     return EXIT_CLAIM if failed else EXIT_OK
 
 
+class Terminated(BaseException):
+    """SIGTERM arrived (raised in the main thread by the command line's handler)."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated
+
+
+def _runtime_error(exc: BaseException) -> bool:
+    """Errors of the run's environment (exit 3): I/O, workers, a Dask scheduler lost."""
+    import concurrent.futures
+
+    if isinstance(exc, OSError | RuntimeError | MemoryError | TimeoutError |
+                  concurrent.futures.CancelledError | concurrent.futures.TimeoutError):
+        return True
+    mod = type(exc).__module__ or ""
+    return mod.split(".")[0] in ("distributed", "tornado", "dask")
+
+
+def _usage_errors() -> tuple:
+    registry = sys.modules.get("fusioncenter.figures.registry")
+    extra = (registry.UnknownEntry, registry.EntryNotReady) if registry is not None else ()
+    return (_UnknownId, ValueError, *extra)
+
+
+def _stop_workers() -> None:
+    ctx = sys.modules.get("fusioncenter.context")
+    if ctx is not None:
+        ctx.shutdown(kill=True)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line (``python -m fusioncenter``; see the module's description).
+    """Run the command line (``fusioncenter`` or ``python -m fusioncenter``; see the module's
+    description).
 
     Parameters
     ----------
@@ -326,9 +482,11 @@ def main(argv: list[str] | None = None) -> int:
     int
         The exit code: 0 success, 1 a claim failed (``verify``), 2 bad usage (an unknown id,
         an entry not ready, a ``ValueError`` such as a bad ``--set``, ``--seed`` or
-        ``--executor``), 3 a runtime or I/O error (an ``OSError`` or ``RuntimeError``), 130
-        interrupted. For codes 2, 3 and 130 one line ``error: ...`` goes to stderr instead of
-        a traceback.
+        ``--executor``, a bound broken, a run too large for the memory), 3 a runtime or I/O
+        error (an ``OSError``, ``RuntimeError``, ``MemoryError``, a lost Dask scheduler or
+        worker), 4 an internal error (traceback printed), 130 interrupted, 143 terminated
+        (SIGTERM). For codes 2, 3, 130 and 143 one line ``error: ...`` goes to stderr
+        instead of a traceback; on 130 and 143 the worker processes are killed.
 
     Raises
     ------
@@ -337,17 +495,38 @@ def main(argv: list[str] | None = None) -> int:
         or for ``--help`` (code 0).
     """
     args = _parser().parse_args(argv)
+    old = None
+    if __import__("threading").current_thread() is __import__("threading").main_thread():
+        old = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return _main(args)
-    except (figures.UnknownEntry, figures.EntryNotReady, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    except (OSError, RuntimeError) as exc:  # I/O, the compute cache, workers, a scheduler
-        msg = str(exc) or type(exc).__name__
-        if isinstance(exc, OSError) and exc.filename and str(exc.filename) not in msg:
-            msg = f"{msg}: {exc.filename}"
-        print(f"error: {type(exc).__name__}: {msg}", file=sys.stderr)
-        return EXIT_RUNTIME
     except KeyboardInterrupt:
+        _stop_workers()
         print("error: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Terminated:
+        _stop_workers()
+        print("error: terminated (SIGTERM)", file=sys.stderr)
+        return EXIT_TERMINATED
+    except Exception as exc:  # noqa: BLE001 (sorted into the exit codes below)
+        if isinstance(exc, _usage_errors()):
+            print(f"error: {exc}", file=sys.stderr)
+            return EXIT_USAGE
+        if _runtime_error(exc):
+            _stop_workers()
+            msg = str(exc) or type(exc).__name__
+            if isinstance(exc, MemoryError):
+                msg = f"out of memory while computing ({msg}); use smaller sizes (--set)"
+            if isinstance(exc, OSError) and exc.filename and str(exc.filename) not in msg:
+                msg = f"{msg}: {exc.filename}"
+            print(f"error: {type(exc).__name__}: {' '.join(msg.split())}", file=sys.stderr)
+            return EXIT_RUNTIME
+        import traceback
+
+        traceback.print_exc()
+        print(f"error: internal error ({type(exc).__name__}); please report it with the "
+              "traceback above", file=sys.stderr)
+        return EXIT_INTERNAL
+    finally:
+        if old is not None:
+            signal.signal(signal.SIGTERM, old)

@@ -5,6 +5,12 @@ parameters only; *where* its trials run is the executor of the active context:
 
 ``serial``
     in the calling process;
+``auto``
+    serial, unless a Monte Carlo run is long enough to repay starting a process pool of the
+    cores (about 5 s): :func:`fusioncenter.montecarlo.simulate` times the run's first block in
+    the calling process and sends the remaining blocks to the pool only when their serial time
+    would exceed :data:`AUTO_POOL_SECONDS` (a pool already started is used at once). The
+    default, so that it is never slower than serial by more than a second or so;
 ``processes`` or ``processes:N``
     a pool of ``N`` worker processes (default: the number of usable cores), started with the
     ``spawn`` method (safe in notebooks, scripts and threads) and limited to one BLAS / OpenMP
@@ -21,9 +27,9 @@ blocks, the data are bitwise identical under every executor: the executor is a m
 :func:`Entry.run_compute <fusioncenter.figures.registry.Entry.run_compute>` activates the
 context; a compute that pays for parallel work asks for :func:`executor` (``None`` means
 serial) and passes it to the Monte Carlo runner. The default spec is the environment variable
-:data:`EXECUTOR_ENV` (how the book build sets it) or, unset, :func:`default_spec`: a process
-pool in the ``paper`` profile on a machine with several cores, serial otherwise (the fast
-profile's runs are too short to repay starting workers).
+:data:`EXECUTOR_ENV` (how the book build sets it) or, unset, :func:`default_spec`: ``auto`` in
+the ``paper`` profile on a machine with several cores, serial otherwise (the fast profile's
+runs are too short to repay starting workers).
 
 Pools are started on first use and kept for the life of the process (one per spec), so that a
 chapter computing several entries starts its workers once; :func:`shutdown` stops them (also
@@ -44,11 +50,15 @@ from typing import Any
 
 from fusioncenter.profile import check_profile
 
-__all__ = ["EXECUTOR_ENV", "ExecutionContext", "parse_executor", "default_spec", "cores",
-           "activate", "current", "executor", "workers", "shutdown"]
+__all__ = ["EXECUTOR_ENV", "AUTO_POOL_SECONDS", "ExecutionContext", "parse_executor",
+           "default_spec", "cores", "activate", "current", "executor", "workers", "shutdown"]
 
 #: Environment variable with the executor spec of the book build (and any process).
 EXECUTOR_ENV = "FUSIONCENTER_EXECUTOR"
+#: ``auto`` starts a process pool only for a Monte Carlo run whose remaining blocks would take
+#: longer than this serially (seconds; at twice the ~5 s start-up of a pool, a pool of two
+#: workers is then at worst as fast as serial).
+AUTO_POOL_SECONDS = 10.0
 #: Variables that cap the BLAS / OpenMP threads of a worker process.
 THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
                "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
@@ -75,15 +85,16 @@ def parse_executor(spec: str) -> str:
     Parameters
     ----------
     spec : str
-        ``serial``, ``processes``, ``processes:N`` (``N >= 1``, decimal digits only),
+        ``auto``, ``serial``, ``processes``, ``processes:N`` (``N >= 1``, decimal digits only),
         ``dask:local`` or ``dask:ADDRESS``. Blanks around the spec, and around what follows
         ``dask:``, are ignored.
 
     Returns
     -------
     str
-        ``serial``, ``processes:N`` (``processes`` alone becomes ``processes:<cores>``, see
-        :func:`cores`; ``N`` without leading zeros), ``dask:local`` or ``dask:ADDRESS``.
+        ``auto``, ``serial``, ``processes:N`` (``processes`` alone becomes
+        ``processes:<cores>``, see :func:`cores`; ``N`` without leading zeros), ``dask:local``
+        or ``dask:ADDRESS``.
 
     Raises
     ------
@@ -94,7 +105,7 @@ def parse_executor(spec: str) -> str:
     if not isinstance(spec, str):
         raise ValueError(f"executor must be a string spec, got {spec!r}")
     s = spec.strip()
-    if s == "serial":
+    if s in ("serial", "auto"):
         return s
     if s == "processes":
         return f"processes:{cores()}"
@@ -105,13 +116,14 @@ def parse_executor(spec: str) -> str:
         return f"processes:{int(n)}"
     if s.startswith("dask:") and s[5:].strip():
         return "dask:" + s[5:].strip()
-    raise ValueError(f"executor must be one of serial, processes[:N], dask:local or "
+    raise ValueError(f"executor must be one of auto, serial, processes[:N], dask:local or "
                      f"dask:ADDRESS (a dask.distributed scheduler), got {spec!r}")
 
 
 def default_spec(profile: str) -> str:
-    """The executor used when none is given: :data:`EXECUTOR_ENV` if set, else
-    ``processes:<cores>`` for the ``paper`` profile on several cores, ``serial`` otherwise.
+    """The executor used when none is given: :data:`EXECUTOR_ENV` if set, else ``auto`` (a
+    pool of the cores only for runs that repay it) for the ``paper`` profile on several
+    cores, ``serial`` otherwise.
 
     Parameters
     ----------
@@ -122,9 +134,8 @@ def default_spec(profile: str) -> str:
     Returns
     -------
     str
-        A normalised spec (see :func:`parse_executor`): the variable's value, else
-        ``processes:<cores>`` when ``profile`` is ``"paper"`` and :func:`cores` is above 1,
-        else ``serial``.
+        A normalised spec (see :func:`parse_executor`): the variable's value, else ``auto``
+        when ``profile`` is ``"paper"`` and :func:`cores` is above 1, else ``serial``.
 
     Raises
     ------
@@ -139,7 +150,7 @@ def default_spec(profile: str) -> str:
         except ValueError as exc:
             raise ValueError(f"environment variable {EXECUTOR_ENV}: {exc}") from None
     if check_profile(profile) == "paper" and cores() > 1:
-        return f"processes:{cores()}"
+        return "auto"
     return "serial"
 
 
@@ -164,6 +175,9 @@ class ExecutionContext:
     parameters : dict, default {}
         The parsed overrides of the entry's documented parameters, by name (see
         :func:`check_overrides`); empty when none is overridden.
+    progress : bool, default False
+        Report the progress of long Monte Carlo runs on stderr (the command line sets it;
+        :func:`fusioncenter.montecarlo.simulate`).
 
     Raises
     ------
@@ -175,6 +189,7 @@ class ExecutionContext:
     seed: int
     executor: str = "serial"
     parameters: dict[str, Any] = field(default_factory=dict)
+    progress: bool = False
 
     def __post_init__(self) -> None:
         check_profile(self.profile)
@@ -247,7 +262,27 @@ def executor() -> Executor | None:
     ctx = current()
     if ctx is None or ctx.executor == "serial":
         return None
+    if ctx.executor == "auto":
+        return _AutoPool()
     return _pool(ctx.executor)
+
+
+class _AutoPool:
+    """The executor of ``auto``: a pool of the cores, started only when
+    :func:`fusioncenter.montecarlo.simulate` (seeing ``adaptive``) finds a run that repays it."""
+
+    adaptive = True
+    spec = staticmethod(lambda: f"processes:{cores()}")
+
+    def choose(self, serial_seconds: float):
+        """The pool if the rest of the run (``serial_seconds`` serially) repays starting it
+        (over :data:`AUTO_POOL_SECONDS`) or it runs already, else ``None`` (serial)."""
+        if cores() > 1 and (self.spec() in _POOLS or serial_seconds > AUTO_POOL_SECONDS):
+            return _pool(self.spec())
+        return None
+
+    def submit(self, fn, *args, **kwargs):  # used as a plain executor: the pool
+        return _pool(self.spec()).submit(fn, *args, **kwargs)
 
 
 def workers() -> int:
@@ -269,6 +304,8 @@ def workers() -> int:
     ctx = current()
     if ctx is None or ctx.executor == "serial":
         return 1
+    if ctx.executor == "auto":
+        return cores()
     if ctx.executor.startswith("processes:"):
         return int(ctx.executor.split(":", 1)[1])
     ex = _pool(ctx.executor)
@@ -348,9 +385,22 @@ def _start(spec: str):
         pool = ProcessPoolExecutor(int(spec.split(":", 1)[1]),
                                    mp_context=multiprocessing.get_context("spawn"),
                                    initializer=_worker_init)
-        _CLOSERS.append(lambda: pool.shutdown(wait=True, cancel_futures=True))
+
+        def close(kill: bool = False) -> None:
+            if kill:  # interrupted: the workers' running tasks are not waited for
+                for proc in list((pool._processes or {}).values()):
+                    with contextlib.suppress(Exception):
+                        proc.kill()
+            pool.shutdown(wait=True, cancel_futures=True)
+
+        close.kills = True
+        _CLOSERS.append(close)
         return pool
-    from dask.distributed import Client, LocalCluster
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise RuntimeError(f"executor {spec}: dask.distributed is not installed ({exc})") \
+            from None
 
     address = spec[len("dask:"):]
     if address == "local":
@@ -379,15 +429,22 @@ def _pool(spec: str):
         return pool
 
 
-def shutdown() -> None:
+def shutdown(kill: bool = False) -> None:
     """Stop every pool and cluster this process started (the next use starts them again).
+
+    Parameters
+    ----------
+    kill : bool, default False
+        Kill the process pools' workers at once instead of letting their running tasks
+        finish (what an interrupt or SIGTERM of the command line does).
 
     Returns
     -------
     None
         Dask clients are closed before their clusters and process pools are shut down after
-        their running tasks finish (queued tasks are cancelled); an error while closing one
-        of them is ignored. It is also registered with ``atexit``.
+        their running tasks finish (queued tasks are cancelled; with ``kill``, the workers
+        are killed first); an error while closing one of them is ignored. It is also
+        registered with ``atexit``.
     """
     with _LOCK:
         _POOLS.clear()
@@ -395,7 +452,10 @@ def shutdown() -> None:
         _CLOSERS.clear()
     for close in reversed(closers):  # client before cluster
         with contextlib.suppress(Exception):
-            close()
+            if kill and getattr(close, "kills", False):
+                close(kill=True)
+            else:
+                close()
 
 
 atexit.register(shutdown)
@@ -422,6 +482,15 @@ class Parameter:
         ``True`` if it changes the paper's setting (``N``, ``l``, noise levels): the claims the
         entry marks paper-specific are then skipped by ``verify``. ``False`` (trials,
         particles, paths) if it changes only the Monte Carlo accuracy: every claim applies.
+    exclusive_minimum : bool, default False
+        The value must be strictly above ``minimum`` (``0 < l``).
+    at_most : str or None, default None
+        The name of another parameter of the entry that bounds this one from above
+        (``l <= N``, ``trials_heavy <= trials``), checked on the values of the run before
+        computing starts (:meth:`check_relations`).
+    multiple_below : int or None, default None
+        With ``at_most``: a value below the other parameter's must be a multiple of this
+        (``trials_heavy``: whole blocks of 256 trials).
 
     Raises
     ------
@@ -436,6 +505,9 @@ class Parameter:
     minimum: float | None = None
     maximum: float | None = None
     model: bool = False
+    exclusive_minimum: bool = False
+    at_most: str | None = None
+    multiple_below: int | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in ("int", "float", "floats"):
@@ -469,12 +541,9 @@ class Parameter:
         import numpy as np
 
         if isinstance(value, str):
-            text = value.strip()
-            try:
-                value = int(text) if kind == "int" else float(text)
-            except ValueError:
-                what = "an integer" if kind == "int" else "a number"
-                raise ValueError(f"parameter {self.name}: expected {what}, got {text!r}") from None
+            from fusioncenter._numbers import number
+
+            value = number(self.name, value, kind)
         if isinstance(value, bool) or not isinstance(value, int | float | np.integer
                                                      | np.floating):
             raise ValueError(f"parameter {self.name}: expected a number, got {value!r}")
@@ -486,8 +555,11 @@ class Parameter:
             value = float(value)
             if not math.isfinite(value):
                 raise ValueError(f"parameter {self.name}: must be finite, got {value!r}")
-        if self.minimum is not None and value < self.minimum:
-            raise ValueError(f"parameter {self.name}: must be >= {self.minimum:g}, got {value!r}")
+        if self.minimum is not None and (value <= self.minimum if self.exclusive_minimum
+                                         else value < self.minimum):
+            op = ">" if self.exclusive_minimum else ">="
+            raise ValueError(f"parameter {self.name}: must be {op} {self.minimum:g}, got "
+                             f"{value!r}")
         if self.maximum is not None and value > self.maximum:
             raise ValueError(f"parameter {self.name}: must be <= {self.maximum:g}, got {value!r}")
         return value
@@ -535,12 +607,59 @@ class Parameter:
             ``name (kind, lo <= name <= hi; default D): doc``, the bounds shown only where they
             are set.
         """
-        bounds = ""
-        if self.minimum is not None or self.maximum is not None:
-            lo = "" if self.minimum is None else f"{self.minimum:g} <= "
-            hi = "" if self.maximum is None else f" <= {self.maximum:g}"
-            bounds = f", {lo}{self.name}{hi}"
-        return f"{self.name} ({self.kind}{bounds}; default {self.default}): {self.doc}"
+        return f"{self.name} ({self.kind}{self.bounds()}; default {self._default_text()}): " \
+            f"{self.doc}"
+
+    def bounds(self) -> str:
+        """Every bound of the parameter as text.
+
+        Returns
+        -------
+        str
+            ``", 0 < l <= N"`` (the form of :meth:`describe`), ``""`` if unbounded.
+        """
+        his = [f"{self.maximum:g}"] if self.maximum is not None else []
+        if self.at_most:
+            his.append(self.at_most)
+        if self.minimum is None and not his:
+            return ""
+        lo = "" if self.minimum is None else \
+            f"{self.minimum:g} {'<' if self.exclusive_minimum else '<='} "
+        hi = "".join(f" <= {h}" for h in his)
+        step = f", a multiple of {self.multiple_below} below {self.at_most}" \
+            if self.multiple_below and self.at_most else ""
+        return f", {lo}{self.name}{hi}{step}"
+
+    def _default_text(self) -> str:
+        d = self.default
+        if isinstance(d, dict):
+            return ", ".join(f"{k} {v}" for k, v in d.items())
+        return str(d)
+
+    def check_relations(self, values: dict) -> None:
+        """Check the bound set by another parameter (:attr:`at_most`) on the run's values.
+
+        Parameters
+        ----------
+        values : dict
+            Every settable parameter's value in the run (overrides and defaults).
+
+        Raises
+        ------
+        ValueError
+            If the value exceeds the other parameter's (the message names both).
+        """
+        if self.at_most and self.at_most in values and values.get(self.name) is not None \
+                and values[self.name] > values[self.at_most]:
+            raise ValueError(f"parameter {self.name}: must be <= {self.at_most} "
+                             f"({values[self.at_most]}), got {values[self.name]!r}")
+        if self.at_most and self.multiple_below and self.at_most in values \
+                and values.get(self.name) is not None \
+                and values[self.name] < values[self.at_most] \
+                and values[self.name] % self.multiple_below:
+            raise ValueError(f"parameter {self.name}: below {self.at_most} "
+                             f"({values[self.at_most]}) it must be a multiple of "
+                             f"{self.multiple_below}, got {values[self.name]!r}")
 
 
 def check_overrides(entry_id: str, declared, overrides: dict) -> dict:

@@ -22,7 +22,9 @@ command line and ``FUSIONCENTER_EXECUTOR`` for the book.
 from __future__ import annotations
 
 import math
+import os
 import sys
+import time
 from collections.abc import Callable
 from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass, field
@@ -129,6 +131,131 @@ def _check_int(name: str, value, minimum: int) -> int:
     return int(value)
 
 
+#: Bytes a block's seed (a ``SeedSequence`` and its place in the task list) costs, about.
+_SEED_BYTES = 600
+
+
+def available_memory() -> int | None:
+    """The memory this process can still allocate, about.
+
+    Returns
+    -------
+    int or None
+        Bytes: ``MemAvailable`` of ``/proc/meminfo`` (else the available physical pages),
+        capped by an address-space limit (``RLIMIT_AS``); ``None`` where it is unknown.
+    """
+    avail = None
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            return None
+    try:
+        import resource
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft != resource.RLIM_INFINITY:
+            avail = min(avail, soft)
+    except (ImportError, OSError, ValueError):
+        pass
+    return avail
+
+
+def _gib(nbytes: float) -> str:
+    return f"{nbytes / 2**30:.3g} GiB" if nbytes >= 2**28 else f"{nbytes / 2**20:.3g} MiB"
+
+
+def check_memory(name: str, value: int, nbytes: float, what: str) -> None:
+    """Refuse, before allocating, a size whose memory exceeds what the machine has.
+
+    Parameters
+    ----------
+    name : str
+        The parameter that sets the size (named in the message).
+    value : int
+        Its value.
+    nbytes : float
+        The estimated bytes the run needs.
+    what : str
+        What the memory is for (in the message).
+
+    Returns
+    -------
+    None
+        Nothing when the size fits (or the memory available is unknown).
+
+    Raises
+    ------
+    ValueError
+        If ``nbytes`` exceeds 90 % of :func:`available_memory`; the message gives the
+        estimate and what is available.
+    """
+    avail = available_memory()
+    if avail is not None and nbytes > 0.9 * avail:
+        raise ValueError(f"{name} = {value}: {what} would need about {_gib(nbytes)} of memory, "
+                         f"more than the {_gib(avail)} available; use a smaller {name}")
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.1f} days"
+
+
+class _Progress:
+    """Progress of a long run on stderr: a tqdm bar on a terminal, else a line every 30 s;
+    nothing for a run expected to end within a few seconds."""
+
+    def __init__(self, total: int, done: int, eta: float, force: bool) -> None:
+        self.total, self.done, self.t0 = total, done, time.monotonic()
+        self.bar = None
+        self.last = self.t0
+        tty = sys.stderr.isatty()
+        self.active = force or eta > (2.0 if tty else 10.0)
+        if not self.active:
+            return
+        if force or tty:
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, initial=done, desc="Monte Carlo", unit="trial",
+                            file=sys.stderr)
+        else:
+            print(f"Monte Carlo: {total} trials, about {_duration(eta)} (estimated from the "
+                  "first block)", file=sys.stderr, flush=True)
+
+    def update(self, n: int) -> None:
+        self.done += n
+        if not self.active:
+            return
+        if self.bar is not None:
+            self.bar.update(n)
+            return
+        now = time.monotonic()
+        if now - self.last >= 30 and self.done < self.total:
+            self.last = now
+            rate = (self.done) / max(now - self.t0, 1e-9)
+            print(f"Monte Carlo: {self.done} of {self.total} trials "
+                  f"({100 * self.done / self.total:.1f} %), about "
+                  f"{_duration((self.total - self.done) / max(rate, 1e-12))} left",
+                  file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
 def _run_blocks(chunk_fn: Callable, blocks: list[tuple[np.random.SeedSequence, int]]) -> list:
     """Run one task: each block with its own generator. Top level so that it pickles."""
     out = []
@@ -141,6 +268,13 @@ def _run_blocks(chunk_fn: Callable, blocks: list[tuple[np.random.SeedSequence, i
             )
         out.append(res)
     return out
+
+
+def _context_progress() -> bool:
+    """Whether the active execution context asks for progress (the command line does)."""
+    ctx_mod = sys.modules.get("fusioncenter.context")
+    ctx = ctx_mod.current() if ctx_mod is not None else None
+    return bool(ctx is not None and getattr(ctx, "progress", False))
 
 
 def simulate(
@@ -189,8 +323,21 @@ def simulate(
     ValueError
         If ``chunk_fn`` is not callable; if ``n_trials``, ``seed``, ``block_size`` or
         ``chunk_size`` is not an integer (a ``bool`` is refused; NumPy integers are accepted)
-        or is below its minimum; if ``executor`` has no ``submit``; or if ``chunk_fn`` returns
-        something whose first axis is not ``n`` long (raised when that block runs).
+        or is below its minimum; if ``executor`` has no ``submit``; if ``chunk_fn`` returns
+        something whose first axis is not ``n`` long (raised when that block runs); or if the
+        run would need more memory than the machine has (the message names ``n_trials`` and
+        gives the estimate), checked before the blocks' seeds are made and again, from the
+        size of the first block's result, before any other block runs.
+
+    Notes
+    -----
+    The first block always runs in the calling process, first: its result's size gives the
+    memory estimate and its time the run's. With the ``auto`` executor of
+    :mod:`fusioncenter.context` (an object with ``adaptive = True`` and ``choose(seconds)``)
+    the remaining blocks go to a process pool only when their estimated serial time repays
+    its start-up. With an execution context asking for progress (the command line), a run
+    expected to last more than a few seconds reports on stderr. None of this changes the
+    numbers.
     """
     if not callable(chunk_fn):
         raise ValueError("chunk_fn must be callable as chunk_fn(rng, n)")
@@ -203,26 +350,54 @@ def simulate(
         raise ValueError("executor must provide submit(fn, *args) like concurrent.futures")
 
     n_blocks = math.ceil(n_trials / block_size)
+    # the seeds of the blocks cost memory too: refuse an absurd count before making them
+    check_memory("n_trials", n_trials, n_blocks * _SEED_BYTES, "the random streams of the "
+                 f"{n_blocks} blocks")
     sizes = [block_size] * (n_blocks - 1) + [n_trials - block_size * (n_blocks - 1)]
-    children = np.random.SeedSequence(seed).spawn(n_blocks)
-    blocks = list(zip(children, sizes, strict=True))
+    root = np.random.SeedSequence(seed)
+    # The first block runs here, first: its result's size tells the memory of all trials (and
+    # its time how long the run takes, which decides the ``auto`` executor). Spawning the
+    # children one call after another gives the same children as one call.
+    ctx_progress = _context_progress()
+    t0 = time.perf_counter()
+    first = _run_blocks(chunk_fn, [(root.spawn(1)[0], sizes[0])])
+    t_block = time.perf_counter() - t0
+    row = first[0].nbytes / max(sizes[0], 1)
+    check_memory("n_trials", n_trials, row * n_trials * 2, "the per-trial results of "
+                 f"{n_trials} trials ({row:.0f} bytes each, twice while they are put together)")
+    rest_serial = t_block * (n_trials - sizes[0]) / max(sizes[0], 1)
+    if getattr(executor, "adaptive", False):
+        executor = executor.choose(rest_serial)
+    blocks = list(zip(root.spawn(n_blocks - 1), sizes[1:], strict=True))
+    n_rest = len(blocks)
 
     if chunk_size is None:
-        per_task = n_blocks if executor is None else max(1, math.ceil(n_blocks / 8))
+        per_task = n_rest if executor is None else max(1, math.ceil(n_rest / 8))
     else:
         per_task = max(1, math.ceil(chunk_size / block_size))
-    tasks = [blocks[i : i + per_task] for i in range(0, n_blocks, per_task)]
+    per_task = max(per_task, 1)
+    tasks = [blocks[i : i + per_task] for i in range(0, n_rest, per_task)]
 
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=n_trials, desc="Monte Carlo", unit="trial", file=sys.stderr)
+        bar = tqdm(total=n_trials, initial=sizes[0], desc="Monte Carlo", unit="trial",
+                   file=sys.stderr)
+    elif ctx_progress and tasks:
+        workers = 1 if executor is None else max(1, min(len(tasks), os.cpu_count() or 1))
+        bar = _Progress(n_trials, sizes[0], rest_serial / workers, force=False)
 
     results: list[list | None] = [None] * len(tasks)
     try:
         if executor is None:
             for i, task in enumerate(tasks):
+                if bar is not None and len(task) > 1:  # blocks one by one, to show progress
+                    results[i] = []
+                    for block in task:
+                        results[i] += _run_blocks(chunk_fn, [block])
+                        bar.update(block[1])
+                    continue
                 results[i] = _run_blocks(chunk_fn, task)
                 if bar is not None:
                     bar.update(sum(n for _, n in task))
@@ -239,6 +414,7 @@ def simulate(
         if bar is not None:
             bar.close()
 
+    results.insert(0, first)
     parts = [arr for task_result in results for arr in task_result]
     samples = np.concatenate(parts, axis=0)
     return MonteCarloResult(samples=samples, seed=seed, block_size=block_size)

@@ -12,13 +12,10 @@ note says how and why).
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
-import pickle
 import re
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,7 +23,14 @@ from typing import Any
 
 import numpy as np
 
-from fusioncenter import context
+from fusioncenter import _cache, context
+from fusioncenter._cache import (  # noqa: F401 (the cache's names, used by the figure modules)
+    CACHE_ENV,
+    ComputeCacheError,
+    locked,
+    read_cached,
+    write_cached,
+)
 from fusioncenter.context import Parameter
 from fusioncenter.profile import check_profile
 
@@ -72,17 +76,10 @@ PAPER_IDS: tuple[str, ...] = (
     *(f"zheng2014-table{i}" for i in range(1, 4)),
 )
 
-#: Environment variable naming a folder where
-#: :meth:`fusioncenter.figures.registry.Entry.run_compute` keeps its results.
-CACHE_ENV = "FUSIONCENTER_COMPUTE_CACHE"
 
 
 class EntryNotReady(RuntimeError):
     """The entry has no compute (or plot, or checks) yet: its status is ``not-started``."""
-
-
-class ComputeCacheError(OSError):
-    """A file of the compute cache (:data:`CACHE_ENV`) cannot be read back."""
 
 
 class UnknownEntry(KeyError):
@@ -298,7 +295,8 @@ class Entry:
         return sorted(k for k in (overrides or {}) if k in by and by[k].model)
 
     def run_compute(self, profile: str = "fast", seed: int | None = None, *,
-                    executor: str | None = None, **overrides) -> dict:
+                    executor: str | None = None, progress: bool = False,
+                    **overrides) -> dict:
         """``compute(profile, seed, **overrides)`` in an execution context, checked to return a
         dict.
 
@@ -311,20 +309,27 @@ class Entry:
             Where the Monte Carlo tasks run: ``serial``, ``processes[:N]``, ``dask:local`` or
             ``dask:ADDRESS`` (:func:`fusioncenter.context.parse_executor`). Default
             :func:`fusioncenter.context.default_spec`. The data do not depend on it.
+        progress
+            Report the progress of long Monte Carlo runs on stderr (the command line does).
         **overrides
             Values of the entry's :attr:`settable` parameters (unknown keys and bad values are
             a ``ValueError``).
 
         If the environment variable :data:`CACHE_ENV` names a folder, the data are stored there
-        (one pickle per id, profile, seed and overrides) and read back by later calls, in any
-        process: the book's build sets it to a folder inside its output that it wipes whenever
-        the library, the lock or the configuration change (``tools/build_book.py``), so that a
+        (one ``.npz`` file per id, profile, seed and overrides, in a format that cannot run code
+        when read: :mod:`fusioncenter._cache`) and read back by later calls, in any process, as
+        long as the library's version and source fingerprint are those the file was written
+        with (otherwise the entry is computed again and the file replaced). A file that fails
+        its integrity check (edited, truncated, planted), or holds no dict, is never served: a
+        warning names it and the entry is computed again. The book's build sets it to a folder
+        inside its output that it wipes whenever the library, the lock or the configuration
+        change (``tools/build_book.py``), so that a
         chapter that gathers other chapters' entries does not run them a second time. Chapters
         executing in parallel share the folder safely: writes are atomic (a temporary file
         renamed), and a process computing an entry holds a lock on it, so that another one
         needing the same entry waits and reads it instead of computing it again. A file that
-        cannot be read back is a :class:`ComputeCacheError`. Unset (the tests, nbval, the
-        command line), every call computes.
+        cannot be read at all (permissions) is a :class:`ComputeCacheError`. Unset (the tests,
+        nbval, the command line by default), every call computes.
         """
         check_profile(profile)
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int | np.integer)
@@ -335,24 +340,55 @@ class Entry:
             context.parse_executor(executor)
         compute = self._need("compute")
         over = self.check_overrides(overrides)
+        self.check_bounds(profile, over)
         folder = os.environ.get(CACHE_ENV, "").strip()
-        path = None
-        if folder:
-            tag = ""
-            if over:
-                blob = json.dumps(sorted(over.items()), default=str).encode()
-                tag = "." + hashlib.sha256(blob).hexdigest()[:12]
-            path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}.pickle"
-        ctx = context.ExecutionContext(profile, seed, spec, over)
-        if path is None:
+        ctx = context.ExecutionContext(profile, seed, spec, over, progress=bool(progress))
+        if not folder:
             return self._compute_in(ctx, compute, over)
+        tag = ""
+        if over:
+            blob = json.dumps(sorted(over.items()), default=str).encode()
+            tag = "." + hashlib.sha256(blob).hexdigest()[:12]
+        path = Path(folder) / f"{self.id}.{profile}.{seed}{tag}{_cache.SUFFIX}"
+        key = {"id": self.id, "profile": profile, "seed": seed,
+               "overrides": sorted(over.items())}
         path.parent.mkdir(parents=True, exist_ok=True)
         with locked(path.with_suffix(".lock")):  # a parallel chapter computing it: wait
             if path.exists():
-                return read_cached(path)
+                found, data = read_cached(path, key)
+                if found and isinstance(data, dict):
+                    return data
+                if found:
+                    _cache.distrust(path, f"it holds a {type(data).__name__}, not a dict")
             data = self._compute_in(ctx, compute, over)
-            write_cached(path, data)
+            write_cached(path, data, key)
         return data
+
+    def check_bounds(self, profile: str, overrides: dict) -> dict:
+        """Every bound between parameters (``0 < l <= N``, ``trials_heavy <= trials``) checked
+        on the values of a run of ``profile`` with the parsed ``overrides``, before computing.
+
+        Parameters
+        ----------
+        profile : str
+            ``"fast"`` or ``"paper"`` (the defaults of the parameters not overridden).
+        overrides : dict
+            The overrides parsed by :meth:`check_overrides`.
+
+        Returns
+        -------
+        dict
+            The resolved values (every settable parameter).
+
+        Raises
+        ------
+        ValueError
+            Naming the parameter and the bound it breaks.
+        """
+        values = {p.name: overrides.get(p.name, p.default_for(profile)) for p in self.settable}
+        for p in self.settable:
+            p.check_relations(values)
+        return values
 
     def _compute_in(self, ctx, compute, over: dict) -> dict:
         with context.activate(ctx):
@@ -405,6 +441,20 @@ class Entry:
         return ([c for c in claims if not c.paper_specific],
                 [c for c in claims if c.paper_specific])
 
+    def settable_lines(self) -> list[str]:
+        """The lines of ``fusioncenter params ID``.
+
+        Returns
+        -------
+        list of str
+            Each parameter with its type, every bound (also one set by another parameter)
+            and its default per profile; one line saying there is none otherwise.
+        """
+        if not self.settable:
+            return [f"{self.id}: no parameters to override"]
+        return [p.describe() + ("  [changes the paper's setting]" if p.model else "")
+                for p in self.settable]
+
     def summary(self) -> dict:
         return {
             "id": self.id,
@@ -421,78 +471,6 @@ class Entry:
             "has_plot": self.plot is not None,
             "has_checks": self.checks is not None,
         }
-
-
-@contextlib.contextmanager
-def locked(path: Path):
-    """An exclusive ``flock`` on ``path`` (created, removed afterwards): processes computing
-    the same cache file take turns, so the second one reads what the first stored. (A process
-    that opened the file just before its removal may compute it once more: harmless, the
-    bytes are the same.)
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The lock file (its folder must exist).
-
-    Yields
-    ------
-    None
-        While the lock is held.
-    """
-    import fcntl
-
-    with path.open("a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            path.unlink(missing_ok=True)
-            fcntl.flock(fh, fcntl.LOCK_UN)
-
-
-def read_cached(path: Path):
-    """The object a compute-cache file holds.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        A file written by :func:`write_cached`.
-
-    Returns
-    -------
-    object
-        What was stored.
-
-    Raises
-    ------
-    ComputeCacheError
-        If the file cannot be unpickled (the message says to delete it).
-    """
-    try:
-        with path.open("rb") as fh:
-            return pickle.load(fh)
-    except Exception as exc:  # noqa: BLE001 (any unpickling failure: corrupt)
-        raise ComputeCacheError(
-            f"compute cache file {path} is unreadable ({type(exc).__name__}: {exc}); delete "
-            f"it (or the folder {CACHE_ENV} names) and run again") from None
-
-
-def write_cached(path: Path, data) -> None:
-    """Store ``data`` in a compute-cache file atomically (a temporary file renamed), so that a
-    reader never sees half a file.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file (its folder must exist).
-    data : object
-        Anything picklable.
-    """
-    tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
-    with tmp.open("wb") as fh:
-        pickle.dump(data, fh, protocol=pickle.HIGHEST_PROTOCOL)
-    tmp.replace(path)
 
 
 REGISTRY: dict[str, Entry] = {}
@@ -519,7 +497,20 @@ def register(entry: Entry) -> Entry:
     if entry.id in REGISTRY:
         raise ValueError(f"duplicate registry id {entry.id!r}")
     REGISTRY[entry.id] = entry
+    import sys
+
+    frame = sys._getframe(1)
+    while frame is not None:  # the module whose import registers it (for the lazy index)
+        name = frame.f_globals.get("__name__", "")
+        if frame.f_code.co_name == "<module>" and name.startswith("fusioncenter.figures."):
+            REGISTERED_BY[entry.id] = name[len("fusioncenter.figures."):]
+            break
+        frame = frame.f_back
     return entry
+
+
+#: Registry id -> the module (below ``fusioncenter.figures``) whose import registered it.
+REGISTERED_BY: dict[str, str] = {}
 
 
 def get(entry_id: str) -> Entry:
@@ -540,7 +531,17 @@ def get(entry_id: str) -> Entry:
     UnknownEntry
         If no entry has that id (the message suggests close ids).
     """
-    _load()
+    if entry_id in REGISTRY:
+        return REGISTRY[entry_id]
+    from fusioncenter.figures import _index as index
+
+    row = index.find(entry_id)
+    if row is not None:  # import only the module that registers it
+        import importlib
+
+        importlib.import_module(f"fusioncenter.figures.{row['module']}")
+    else:
+        _load()
     try:
         return REGISTRY[entry_id]
     except KeyError:
@@ -597,6 +598,32 @@ def entries() -> list[Entry]:
     """
     _load()
     return sorted(REGISTRY.values(), key=_order)  # stable: own entries keep their order
+
+
+def build_index(write: bool = True) -> dict:
+    """The registry's index as it is now (imports every figure module): what
+    ``fusioncenter list`` and ``params`` read (:mod:`fusioncenter.figures._index`).
+
+    Parameters
+    ----------
+    write : bool, default True
+        Also write it to the index file (where the package folder is writable).
+
+    Returns
+    -------
+    dict
+        ``{"source": fingerprint, "entries": [summary + "module" + "settable_lines"]}``.
+    """
+    import json as _json
+
+    from fusioncenter.figures import _index
+
+    rows = [{**e.summary(), "module": REGISTERED_BY[e.id], "settable_lines": e.settable_lines()}
+            for e in entries() if e.id in REGISTERED_BY]
+    index = _json.loads(_json.dumps({"source": _cache.fingerprint(), "entries": rows}))
+    if write:
+        _index.write(index)
+    return index
 
 
 #: Modules that register entries: the book's own and one per part. Each may list the ids of the

@@ -80,7 +80,8 @@ def settable(trials: dict, particles: dict, *, N: int | None = None,
                              "h = (1, 0), r = 1)", N, minimum=1, maximum=64, model=True))
     if l is not None:
         out.append(Parameter("l", "float", "target number of transmissions per step", l,
-                             minimum=0.0, model=True))
+                             minimum=0.0, exclusive_minimum=True,
+                             at_most="N" if N is not None else None, model=True))
     return tuple(out)
 
 
@@ -100,9 +101,41 @@ def run_size(profile: str, trials: dict, particles: dict, over: dict) -> tuple[i
     -------
     tuple of int
         ``(trials, particles)``.
+
+    Raises
+    ------
+    ValueError
+        If one block of trials of the particle filter would need more memory than the
+        machine has (the message names ``particles`` and gives the estimate); the memory of
+        the trials' results is checked by :func:`fusioncenter.montecarlo.simulate`.
     """
-    return (over.get("trials") or by_profile(profile, **trials),
-            over.get("particles") or by_profile(profile, **particles))
+    n = over.get("trials") or by_profile(profile, **trials)
+    P = over.get("particles") or by_profile(profile, **particles)
+    check_block(P, min(n, montecarlo.DEFAULT_BLOCK_SIZE))
+    return n, P
+
+
+def check_block(P: int, block: int, per_particle: int = 0) -> int:
+    """Check that a block of the particle filter fits in memory.
+
+    Parameters
+    ----------
+    P, block, per_particle : int
+        Particles, trials of a block, bytes a particle and trial (0: :data:`PARTICLE_BYTES`).
+
+    Returns
+    -------
+    int
+        ``P``; a ``ValueError`` naming ``particles`` with the estimate if it does not fit.
+    """
+    montecarlo.check_memory("particles", P, block * P * (per_particle or PARTICLE_BYTES),
+                            f"the particle filter's arrays for a block of {block} trials")
+    return P
+
+
+#: Bytes the particle filter holds per particle and trial of a block, about (states, their
+#: copy and noise for resampling and prediction, ancestors, weights: ten doubles).
+PARTICLE_BYTES = 80
 
 
 def run_scheme(sc, scheme: str, *, feedback: str, l: float, n: int, P: int, seed: int,

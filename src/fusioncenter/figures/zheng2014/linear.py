@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from fusioncenter import censoring as cs
-from fusioncenter import context, plotting
+from fusioncenter import context, montecarlo, plotting
 from fusioncenter.context import Parameter
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
@@ -473,7 +473,8 @@ add_entry(
     settable=(*settable(TRIALS, PARTICLES),
               Parameter("trials_heavy", "int", "trials of the corrected and the exact filter "
                         "(the first ones of the others; a multiple of the block size 256 if "
-                        "smaller than trials)", dict(TRIALS_NOFB_HEAVY), minimum=2)),
+                        "smaller than trials)", dict(TRIALS_NOFB_HEAVY), minimum=2,
+                        at_most="trials", multiple_below=montecarlo.DEFAULT_BLOCK_SIZE)),
     reason="Proposition 3 as printed weights the particles exactly as CFoMD (errata 3-5), so "
     "it cannot show the paper's gain; the corrected Proposition 3 and the exact filter do use "
     "the silent sensors",

@@ -30,7 +30,7 @@ from fusioncenter.censoring import nonlinear as cn
 from fusioncenter.context import Parameter
 from fusioncenter.figures.common import checks_doc, compute_doc, document, plot_doc
 from fusioncenter.figures.registry import Claim
-from fusioncenter.figures.zheng2014.common import RAISES, add_entry, settable
+from fusioncenter.figures.zheng2014.common import RAISES, add_entry, check_block, settable
 from fusioncenter.figures.zheng2014.contrasts import contrast, tx_contrast, z_score
 from fusioncenter.profile import by_profile
 
@@ -95,9 +95,9 @@ def _run_one(scheme: str, l: float, feedback: str, n: int, P: int, seed: int, ex
 
 
 def _sizes(profile: str, over: dict) -> tuple[int, int]:
-    """Trials and particles of a run of ``profile`` with the overrides ``over``."""
-    size = by_profile(profile, fast=SIZES["fast"], paper=SIZES["paper"])
-    return over.get("trials") or size["trials"], over.get("particles") or size["particles"]
+    """Trials and particles of a run (checked to fit: 400 bytes a particle in a block)."""
+    n, P = (over.get(k) or by_profile(profile, **SIZES)[k] for k in ("trials", "particles"))
+    return n, check_block(P, min(n, BLOCK), 400)
 
 
 #: The overridable parameters of the filtering entries (Figs. 8-10, Table III).

@@ -16,10 +16,11 @@ run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
 The executor and the chunking are not part of the identity: they do not change the numbers.
 
 If the environment variable :data:`fusioncenter.figures.registry.CACHE_ENV` names a folder (the
-book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one pickle per
-identity without the trials, holding the longest run made; written atomically, under a lock, so
-that a process needing a run another process is making waits and reads it): an entry computed
-in a fresh process then takes the runs another process made. That folder is the registry's
+book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one ``.npz``
+file per identity without the trials, holding the longest run made, in the cache's format that
+cannot run code and is checked when read, :mod:`fusioncenter._cache`; written atomically, under
+a lock, so that a process needing a run another process is making waits and reads it): an entry
+computed in a fresh process then takes the runs another process made. That folder is the registry's
 compute cache, and is wiped with it (the book's build wipes it whenever the library changes).
 Unset (the tests, the command line), a fresh process keeps nothing and computes every run.
 """
@@ -72,7 +73,7 @@ def _store(ident: tuple) -> Path | None:
         return None
     # the repr of a scenario lists every field (floats exactly): it identifies the run
     digest = hashlib.sha256(repr(ident).encode()).hexdigest()[:24]
-    return Path(folder) / "zheng2014-runs" / f"{digest}.pickle"
+    return Path(folder) / "zheng2014-runs" / f"{digest}.npz"
 
 
 def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.CensoringResult:
@@ -82,12 +83,15 @@ def _stored_or_run(ident: tuple, path: Path | None, n: int, run) -> cs.Censoring
         return run()
     path.parent.mkdir(parents=True, exist_ok=True)
     with locked(path.with_suffix(".lock")):
-        old = read_cached(path) if path.exists() else None
-        if old is not None and _usable(old.mc.n_trials, n):
+        key = {"zheng2014-run": repr(ident)}
+        found, old = read_cached(path, key) if path.exists() else (False, None)
+        if found and not isinstance(old, cs.CensoringResult):
+            found, old = False, None
+        if found and _usable(old.mc.n_trials, n):
             return old
         res = run()
         if old is None or res.mc.n_trials > old.mc.n_trials:
-            write_cached(path, res)
+            write_cached(path, res, key)
         return res
 
 
@@ -118,7 +122,8 @@ def kept_run(sc, scheme: str, *, feedback: str, l: float, n: int, P: int, seed: 
         :class:`~fusioncenter.censoring.vector.VectorScenario` (and as
         :func:`fusioncenter.censoring.run` for bad arguments).
     fusioncenter.figures.registry.ComputeCacheError
-        If the stored file of the run cannot be read back.
+        If the stored file of the run cannot be read (permissions); a file that fails its
+        integrity check is not used (a warning names it) and the run is made again.
     """
     if not isinstance(sc, cs.LinearScenario | cv.VectorScenario):
         raise ValueError(f"sc must be a LinearScenario or a VectorScenario, got "
