@@ -7,6 +7,7 @@ Stages (all run; the exit code is 1 if any failed):
 1. ruff        lint of src/, tests/, tools/, benchmarks/, book/_ext/
    chapters    ruff on the chapters' code cells, lines of at most 79 characters
                (tools/lint_chapters.py)
+   index       the registry's index (src/fusioncenter/figures/_index.json) is current
 2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
                two shards, the first longer (:func:`nbval_shards`, :data:`SHARD_1_SHARE`),
                each kernel forked from a process that has imported the chapters' libraries
@@ -355,7 +356,8 @@ def main(argv: list[str] | None = None) -> int:
     jobs = [j for j in jobs if j.name not in OPTIONAL or j.name in extra]
     stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                            "book/_ext"]),
-              run("chapters", [PY, "tools/lint_chapters.py"])]
+              run("chapters", [PY, "tools/lint_chapters.py"]),
+              run("index", [PY, "-m", "fusioncenter.figures._index", "--check"])]
     stages += schedule(jobs, 2 if parallel else 1)
     total = time.perf_counter() - t0
     print("\n===== make test summary")

@@ -8,7 +8,8 @@ module of the entry asked for. The index records the library's source fingerprin
 (:func:`fusioncenter._cache.fingerprint`): when the source has changed since it was written it is
 not used (everything is imported, as without an index) and it is written again where the
 package folder is writable. ``python -m fusioncenter.figures._index`` rewrites it
-(:func:`fusioncenter.figures.registry.build_index`);
+(:func:`fusioncenter.figures.registry.build_index`), ``--check`` fails when the committed file is
+out of date (a stage of ``make test``, before any test rewrites it);
 ``tests/test_registry_cli.py`` checks that it matches the registry.
 """
 
@@ -61,6 +62,14 @@ def find(entry_id: str) -> dict | None:
 
 
 if __name__ == "__main__":  # a script, not a dependency of the module
+    if sys.argv[1:] == ["--check"]:  # make test's stage "index": the committed file is current
+        if load() is None:
+            print(f"error: {PATH} is out of date (the library's source changed since it was "
+                  "written): run `python -m fusioncenter.figures._index` and commit it",
+                  file=sys.stderr)
+            sys.exit(1)
+        print(f"{PATH.name}: current ({len(load() or [])} entries)", file=sys.stderr)
+        sys.exit(0)
     import importlib
 
     importlib.import_module("fusioncenter.figures.registry").build_index()
