@@ -35,6 +35,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 from reader_notebook import MYST_LEFTOVER  # noqa: E402
 
+sys.path.insert(0, str(ROOT / "tools"))
+from site_wheel import UV, build_wheel  # noqa: E402
+
 DEFAULT_CHAPTERS = ["book/mo2015/trigger", "book/dey2009/random-riccati",
                     "book/leong2011/steady-state"]
 PROFILE = re.compile(r"^profile: (fast|paper)\b", re.M)
@@ -73,32 +76,12 @@ def python_312() -> str:
     return found[-1]
 
 
-#: The book environment's uv (installed by tools/bootstrap.sh), where it could be had.
-UV = Path(sys.executable).parent / "uv"
-
-
 def installer(vpy: str) -> list[str]:
     """The install command for the environment of ``vpy``: the book environment's uv (the same
     pins, in parallel), else that environment's pip."""
     if UV.exists():
         return [str(UV), "pip", "install", "--quiet", "--python", vpy]
     return [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
-
-
-def build_wheel(outdir: Path) -> Path:
-    """Build the library's wheel (via an sdist, so the source tree stays clean)."""
-    outdir.mkdir(parents=True, exist_ok=True)
-    # the isolated build environments with the book environment's uv when it has one (4.3 s
-    # against 7.3 s with pip's); the wheel is the same
-    uv = ["--installer", "uv"] if UV.exists() else []
-    subprocess.run([sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)],
-                   check=True, stdout=subprocess.DEVNULL)
-    from fusioncenter import __version__
-
-    wheel = outdir / f"fusioncenter-{__version__}-py3-none-any.whl"
-    if not wheel.exists():
-        raise FileNotFoundError(f"build did not write {wheel}")
-    return wheel
 
 
 def _step(name: str, t0: float) -> float:
