@@ -348,6 +348,7 @@ def _run_install_cell(source: str, monkeypatch, tmp_path) -> Exception | None:
     monkeypatch.setenv("PIP_FIND_LINKS", str(tmp_path))
     monkeypatch.setenv("PIP_RETRIES", "0")
     monkeypatch.setenv("PIP_TIMEOUT", "5")
+    monkeypatch.setenv("FORCE_COLOR", "1")  # as in a Jupyter kernel, where pip's ERROR is red
     try:
         exec(compile(source, "install-cell", "exec"), {"__name__": "__main__"})
     except Exception as exc:  # the finding
@@ -370,6 +371,7 @@ def test_downloaded_install_cell_stops_with_one_message_when_pip_fails(monkeypat
     assert "from the package index: ERROR" in msg and "from the book's site: ERROR" in msg
     assert f"{site}_wheels/fusioncenter-99.0.0-py3-none-any.whl" in msg
     assert "PIP_NO_INDEX=1" in msg and "PIP_FIND_LINKS" in msg
+    assert "\x1b" not in msg  # pip's colours stay out of the message
     assert fc_book.__file__.startswith(str(ROOT / "src"))  # nothing was installed over it
 
 

@@ -272,7 +272,7 @@ def _install_fusioncenter():
     said = []
     for where, want in tries.items():
         run = subprocess.run(
-            [sys.executable, "-m", "pip", "install", "--quiet",
+            [sys.executable, "-m", "pip", "install", "--quiet", "--no-color",
              "--disable-pip-version-check", want],
             capture_output=True, text=True)
         if run.returncode == 0:
