@@ -67,7 +67,7 @@ OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
 #: instructor's site nor shares its execution cache key.
 STUDENT_OUTPUTS = {"paper": ROOT / "_build" / "student", "fast": ROOT / "_build" / "fast-student"}
 FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml",
-                      "book/_ext", "tools/build_book.py"]
+                      "book/_ext", "tools/build_book.py", "tools/site_wheel.py"]
 STAMP = ".fusioncenter-fingerprint"
 STATUS = "execution-status.json"
 TIMEOUT = 1800  # as _config.yml execute.timeout
@@ -430,7 +430,7 @@ def main(argv: list[str] | None = None) -> int:
 
     def _build_wheel() -> None:
         try:
-            wheel["path"] = site_wheel.build_wheel(out / "_build" / "wheel")
+            wheel["path"] = site_wheel.build_wheel(out / "_build" / "wheel", run=procs.run)
         except (OSError, subprocess.CalledProcessError) as exc:
             wheel["error"] = exc
 

@@ -37,14 +37,22 @@ def wheel_name(ver: str | None = None) -> str:
     return f"fusioncenter-{ver or version()}-py3-none-any.whl"
 
 
-def build_wheel(outdir: Path) -> Path:
-    """Build the library's wheel into ``outdir`` (via an sdist) and return its path."""
+def build_wheel(outdir: Path, run=None) -> Path:
+    """Build the library's wheel into ``outdir`` (via an sdist) and return its path.
+
+    ``run(name, cmd, **kw) -> exit code`` runs the build (tools/procs.py's ``run``, which an
+    interrupt stops with the build's other stages); default: :func:`subprocess.run`."""
     outdir.mkdir(parents=True, exist_ok=True)
     # the isolated build environments with the book environment's uv when it has one (4.3 s
     # against 7.3 s with pip's); the wheel is the same
     uv = ["--installer", "uv"] if UV.exists() else []
-    subprocess.run([sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)],
-                   check=True, stdout=subprocess.DEVNULL)
+    cmd = [sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)]
+    if run is None:
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    else:
+        rc = run("wheel", cmd, stdout=subprocess.DEVNULL)
+        if rc != 0:
+            raise subprocess.CalledProcessError(rc, cmd)
     wheel = outdir / wheel_name()
     if not wheel.exists():
         raise FileNotFoundError(f"build did not write {wheel}")
