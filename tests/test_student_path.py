@@ -144,7 +144,8 @@ def _files_writing(needles: list[str]) -> dict[str, list[str]]:
             ".hypothesis", "node_modules"}
     for path in ROOT.rglob("*"):
         rel = path.relative_to(ROOT)
-        if skip & set(rel.parts) or not path.is_file() or path.suffix not in TEXT_SUFFIXES:
+        if (skip & set(rel.parts) or any(x.endswith(".egg-info") for x in rel.parts)
+                or not path.is_file() or path.suffix not in TEXT_SUFFIXES):
             continue
         try:
             text = path.read_text()
