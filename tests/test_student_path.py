@@ -186,13 +186,14 @@ def test_urls_are_set_in_one_place_and_agree():
     assert launch["binderhub_url"] and launch["colab_url"]
 
 
-#: repo2docker's base environment, into which Binder installs binder/requirements.txt: its
-#: notebook 7.4.7 requires these (its wheel's Requires-Dist). A Binder pin outside them is a
-#: conflict that `pip check` reports there (jupyterlab==4.6.6 was one).
-BINDER_BASE = {"notebook": "7.4.7",
-               "requires": {"jupyterlab": ">=4.4.9,<4.5", "jupyterlab-server": ">=2.27.1,<3",
-                            "jupyter-server": ">=2.4.0,<3", "notebook-shim": ">=0.2,<0.3",
-                            "tornado": ">=6.2.0"}}
+#: repo2docker's base environment, into which Binder installs binder/requirements.txt, has
+#: notebook 7.4.7, which requires jupyterlab>=4.4.9,<4.5: with the lock's JupyterLab 4.6.6 `pip
+#: check` fails there. Binder therefore pins the notebook release made for that JupyterLab; its
+#: wheel's Requires-Dist (below) must hold for Binder's pins, and the base's must not be kept.
+BINDER_BASE = {"notebook": ("7.4.7", {"jupyterlab": ">=4.4.9,<4.5"})}
+NOTEBOOK_REQUIRES = {"7.6.5": {"jupyterlab": ">=4.6.6,<4.7", "jupyterlab-server": ">=2.28.0,<3",
+                               "jupyter-server": ">=2.19.0,<3", "notebook-shim": ">=0.2,<0.3",
+                               "tornado": ">=6.2.0", "jupyter-builder": ">=1.0.2,<2"}}
 
 
 def _binder_pins(text: str) -> dict[str, str]:
@@ -205,18 +206,29 @@ def _binder_pins(text: str) -> dict[str, str]:
 
 
 def _binder_conflicts(pins: dict[str, str], lock: dict[str, str]) -> list[str]:
-    """Binder's pins that break repo2docker's base, or differ from the lock where the base
-    does not force them."""
+    """Binder's pins that conflict with what stays of repo2docker's base (`pip check` there), or
+    that differ from the lock."""
     from packaging.specifiers import SpecifierSet
 
     bad = []
+    env = dict(lock)
+    env.update(pins)
+    for name, (version, requires) in BINDER_BASE.items():
+        if name not in pins:  # the base's release stays: its requirements must hold
+            bad += [f"binder: {dep}=={env.get(dep)}, but repo2docker's {name} {version} "
+                    f"requires {dep}{spec}" for dep, spec in requires.items()
+                    if env.get(dep) and env[dep] not in SpecifierSet(spec)]
+    if "notebook" in pins:
+        requires = NOTEBOOK_REQUIRES.get(pins["notebook"])
+        if requires is None:
+            bad.append(f"binder: notebook=={pins['notebook']}: record its requirements in "
+                       "NOTEBOOK_REQUIRES")
+        else:
+            bad += [f"binder: {dep}=={env.get(dep)}, but notebook {pins['notebook']} requires "
+                    f"{dep}{spec}" for dep, spec in requires.items()
+                    if dep in pins and pins[dep] not in SpecifierSet(spec)]
     for name, version in pins.items():
-        spec = BINDER_BASE["requires"].get(name)
-        if spec is not None:
-            if version not in SpecifierSet(spec):
-                bad.append(f"binder: {name}=={version}, but repo2docker's notebook "
-                           f"{BINDER_BASE['notebook']} requires {name}{spec}")
-        elif lock.get(name) != version:
+        if name not in BINDER_BASE and lock.get(name) != version:
             bad.append(f"binder: {name}=={version}, lock: {lock.get(name)}")
     return bad
 
@@ -227,8 +239,10 @@ def test_binder_is_slim_and_pinned_like_the_lock():
     assert {"jupyterlab", "jupyterlab-myst", "jupytext", "numpy", "numba", "scipy"} <= set(pins)
     assert not {"jupyter-book", "pytest", "playwright", "sphinx"} & set(pins)
     assert _binder_conflicts(pins, lock) == []
-    # the check sees the conflict that broke Binder's `pip check`, and a pin off the lock
-    assert _binder_conflicts({**pins, "jupyterlab": "4.6.6"}, lock)
+    # the check sees the conflict that broke Binder's `pip check` (the base's notebook kept
+    # with JupyterLab 4.6.6), a JupyterLab the pinned notebook refuses, and a pin off the lock
+    assert _binder_conflicts({k: v for k, v in pins.items() if k != "notebook"}, lock)
+    assert _binder_conflicts({**pins, "jupyterlab": "4.4.10"}, {**lock, "jupyterlab": "4.4.10"})
     assert _binder_conflicts({**pins, "numpy": "1.0.0"}, lock)
     viewers = json.loads((ROOT / "binder" / "overrides.json").read_text())[
         "@jupyterlab/docmanager-extension:plugin"]["defaultViewers"]
