@@ -31,6 +31,10 @@ inputs, written only after a successful build; when it differs or is missing (a 
 interrupted build), the folder's whole ``_build`` (HTML, doctrees, the execution and compute
 caches) is removed first and everything is executed again.
 
+The library's wheel is built beside the execution stage and put under the site as
+``_wheels/fusioncenter-<version>-py3-none-any.whl`` (tools/site_wheel.py): deploying the site is
+all it takes for the downloaded notebooks' install cell to find the library.
+
 The per-chapter record (profile, seconds, executed now or taken from the cache, date) goes to
 ``<out>/_build/execution-status.json``; the book's status page renders it. Ctrl-C or SIGTERM
 stops every child (kernels included), says which stage was interrupted and exits 130 / 143.
@@ -55,6 +59,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
+import site_wheel  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
@@ -62,7 +67,7 @@ OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
 #: instructor's site nor shares its execution cache key.
 STUDENT_OUTPUTS = {"paper": ROOT / "_build" / "student", "fast": ROOT / "_build" / "fast-student"}
 FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml",
-                      "book/_ext", "tools/build_book.py"]
+                      "book/_ext", "tools/build_book.py", "tools/site_wheel.py"]
 STAMP = ".fusioncenter-fingerprint"
 STATUS = "execution-status.json"
 TIMEOUT = 1800  # as _config.yml execute.timeout
@@ -419,6 +424,19 @@ def main(argv: list[str] | None = None) -> int:
         env["FUSIONCENTER_EXECUTOR"] = "serial"  # the lanes use the cores (module docstring)
     times: dict = {"jobs": jobs}
 
+    # the library's wheel, which the site carries (_wheels/: the downloaded notebooks' install
+    # cell falls back to it), is built beside the execution stage: no wall time added
+    wheel: dict = {}
+
+    def _build_wheel() -> None:
+        try:
+            wheel["path"] = site_wheel.build_wheel(out / "_build" / "wheel", run=procs.run)
+        except (OSError, subprocess.CalledProcessError) as exc:
+            wheel["error"] = exc
+
+    wheel_thread = threading.Thread(target=_build_wheel, daemon=True)
+    wheel_thread.start()
+
     _STAGE[0] = "execution"
     t0 = time.perf_counter()
     rows, failed = preexecute(out, args.profile, env, jobs,
@@ -450,6 +468,12 @@ def main(argv: list[str] | None = None) -> int:
     if not index.exists():
         print(f"build_book: FAILED: {index} was not written", file=sys.stderr)
         return 1
+    wheel_thread.join()
+    if "error" in wheel:
+        print(f"build_book: FAILED: the library's wheel for the site: {wheel['error']}",
+              file=sys.stderr)
+        return 1
+    site_wheel.publish(wheel["path"], index.parent)
     finish(out, want)
     print(f"build_book: execution {times['execution_s']:.1f} s ({jobs} jobs), rendering "
           f"{times['rendering_s']:.1f} s, total {times['total_s']:.1f} s", file=sys.stderr)

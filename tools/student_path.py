@@ -2,15 +2,20 @@
 
     python tools/student_path.py [--site _build/fast/_build/html] [--chapters a b c]
 
-1. A wheelhouse stands in for the package index: the wheel of ``fusioncenter`` built from this
-   repository, and wheels of its dependencies, of ``[notebook]``'s and of nbclient + ipykernel,
-   for the student's Python (``pip wheel`` from the machine's registry or cache).
-2. A fresh virtual environment on Python 3.12 (pyenv's, or ``FUSIONCENTER_STUDENT_PYTHON``) gets
+1. The built site is served on loopback, as it would be deployed: it carries the library's wheel
+   (``_wheels/fusioncenter-<version>-py3-none-any.whl``, put there by tools/build_book.py).
+2. A wheelhouse stands in for the package index, with the wheels of the library's dependencies,
+   of ``[notebook]``'s and of nbclient + ipykernel for the student's Python (``pip wheel`` from
+   the machine's registry or cache), but NOT the library itself.
+3. A fresh virtual environment on Python 3.12 (pyenv's, or ``FUSIONCENTER_STUDENT_PYTHON``) gets
    only nbclient and ipykernel, from the wheelhouse.
-3. Each chapter's downloaded notebook (``<site>/_sources/<chapter>.ipynb``, what the site's
+4. The install cell of a download, run where neither the index nor the site can give the library,
+   must stop the notebook in that cell with one message (``InstallFailed: ...``).
+5. Each chapter's downloaded notebook (``<site>/_sources/<chapter>.ipynb``, what the site's
    download button serves) is copied into an empty directory outside the repository and executed
-   there with nbclient, with ``PIP_NO_INDEX=1 PIP_FIND_LINKS=<wheelhouse>``: its first cell must
-   install the library by itself.
+   there with nbclient, with ``PIP_NO_INDEX=1 PIP_FIND_LINKS=<wheelhouse>`` and the site's address
+   (``FUSIONCENTER_BOOK_SITE``) on loopback: its first cell must install the library by itself,
+   from the served site's wheel (the server's log must show the wheel fetched).
 
 It fails on an error in any cell, on MyST markup left in a markdown cell, on a notebook whose
 re-run prints a different ``profile:`` than its download, and on a library imported from
@@ -20,7 +25,9 @@ anywhere but the student's environment. It prints the time of every step.
 from __future__ import annotations
 
 import argparse
+import functools
 import glob
+import http.server
 import json
 import os
 import re
@@ -28,12 +35,16 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 from reader_notebook import MYST_LEFTOVER  # noqa: E402
+
+sys.path.insert(0, str(ROOT / "tools"))
+from site_wheel import UV, WHEELS, wheel_name  # noqa: E402
 
 DEFAULT_CHAPTERS = ["book/mo2015/trigger", "book/dey2009/random-riccati",
                     "book/leong2011/steady-state"]
@@ -73,32 +84,12 @@ def python_312() -> str:
     return found[-1]
 
 
-#: The book environment's uv (installed by tools/bootstrap.sh), where it could be had.
-UV = Path(sys.executable).parent / "uv"
-
-
 def installer(vpy: str) -> list[str]:
     """The install command for the environment of ``vpy``: the book environment's uv (the same
     pins, in parallel), else that environment's pip."""
     if UV.exists():
         return [str(UV), "pip", "install", "--quiet", "--python", vpy]
     return [vpy, "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
-
-
-def build_wheel(outdir: Path) -> Path:
-    """Build the library's wheel (via an sdist, so the source tree stays clean)."""
-    outdir.mkdir(parents=True, exist_ok=True)
-    # the isolated build environments with the book environment's uv when it has one (4.3 s
-    # against 7.3 s with pip's); the wheel is the same
-    uv = ["--installer", "uv"] if UV.exists() else []
-    subprocess.run([sys.executable, "-m", "build", *uv, "--outdir", str(outdir), str(ROOT)],
-                   check=True, stdout=subprocess.DEVNULL)
-    from fusioncenter import __version__
-
-    wheel = outdir / f"fusioncenter-{__version__}-py3-none-any.whl"
-    if not wheel.exists():
-        raise FileNotFoundError(f"build did not write {wheel}")
-    return wheel
 
 
 def _step(name: str, t0: float) -> float:
@@ -122,6 +113,54 @@ def _profile(nb: dict) -> str | None:
     return None
 
 
+def serve_site(site: Path) -> tuple[http.server.ThreadingHTTPServer, list[str]]:
+    """Serve ``site`` on a free loopback port in a thread; the list collects the paths that were
+    requested (and answered 200)."""
+    fetched: list[str] = []
+
+    class Handler(http.server.SimpleHTTPRequestHandler):
+        def log_request(self, code="-", size="-"):
+            if str(code) == "200":
+                fetched.append(self.path)
+
+        def log_message(self, *args):  # quiet
+            pass
+
+    server = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", 0), functools.partial(Handler, directory=str(site)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, fetched
+
+
+def install_failure(download: Path, vpy: str, runner: Path, work: Path, env: dict) -> list[str]:
+    """Run the install cell of ``download`` followed by ``import fusioncenter`` where the library
+    cannot be installed: it must stop in the install cell, with one line of error."""
+    nb = json.loads(download.read_text())
+    install = next(c for c in nb["cells"] if c["cell_type"] == "code")
+    probe = {"cell_type": "code", "execution_count": None, "id": "probe", "metadata": {},
+             "outputs": [], "source": "import fusioncenter"}
+    nb["cells"] = [dict(install, outputs=[], execution_count=None), probe]
+    work.mkdir()
+    target = work / "install-fails.ipynb"
+    target.write_text(json.dumps(nb))
+    out = subprocess.run([vpy, str(runner), str(target), str(work)], cwd=work, env=env,
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        return [f"install failure: runner failed: {out.stderr[-2000:]}"]
+    cells = json.loads(target.read_text())["cells"]
+    errors = [o for o in cells[0].get("outputs", []) if o.get("output_type") == "error"]
+    if not errors or errors[0].get("ename") != "InstallFailed":
+        return [f"install failure: the install cell did not stop with InstallFailed: {errors}"]
+    shown = errors[0].get("traceback", [])
+    problems = []
+    if len(shown) != 1 or "PIP_NO_INDEX=1" not in shown[0] or "ERROR" not in shown[0]:
+        problems.append(f"install failure: not one message saying what failed and what to do: "
+                        f"{shown}")
+    if cells[1].get("outputs") or cells[1].get("execution_count"):
+        problems.append("install failure: the notebook went on past the install cell")
+    return problems
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--site", type=Path, default=ROOT / "_build" / "fast" / "_build" / "html")
@@ -139,14 +178,22 @@ def main(argv: list[str] | None = None) -> int:
     t_all = t = time.perf_counter()
     try:
         py = python_312()
+        wheel = args.site / WHEELS / wheel_name()
+        if not wheel.is_file():
+            print(f"student: FAILED: the site carries no {WHEELS}/{wheel.name} (tools/"
+                  "build_book.py puts it there: build the site again)")
+            return 1
+        server, fetched = serve_site(args.site)
+        site_url = f"http://127.0.0.1:{server.server_address[1]}/"
+        t = _step(f"site served at {site_url}", t)
         wheelhouse = tmp / "wheelhouse"
-        wheel = build_wheel(wheelhouse)
-        t = _step(f"wheel {wheel.name}", t)
         subprocess.run([py, "-m", "pip", "wheel", "--quiet", "--disable-pip-version-check",
-                        "--wheel-dir", str(wheelhouse), "--find-links", str(wheelhouse),
-                        f"fusioncenter[notebook] @ {wheel.as_uri()}", "nbclient", "ipykernel"],
-                       check=True)
-        t = _step(f"wheelhouse ({len(list(wheelhouse.glob('*.whl')))} wheels)", t)
+                        "--wheel-dir", str(wheelhouse),
+                        f"fusioncenter[notebook] @ {wheel.resolve().as_uri()}", "nbclient",
+                        "ipykernel"], check=True)
+        for own in wheelhouse.glob("fusioncenter-*.whl"):  # the library only from the site
+            own.unlink()
+        t = _step(f"wheelhouse ({len(list(wheelhouse.glob('*.whl')))} wheels, no library)", t)
         venv = tmp / "student-venv"
         subprocess.run([py, "-m", "venv", str(venv)], check=True)
         vpy = str(venv / "bin" / "python")
@@ -156,7 +203,9 @@ def main(argv: list[str] | None = None) -> int:
                         "nbclient", "ipykernel"], check=True)
         version = subprocess.run([vpy, "-c", "import sys; print(sys.version.split()[0])"],
                                  capture_output=True, text=True, check=True).stdout.strip()
-        have = subprocess.run([vpy, "-c", "import fusioncenter"], capture_output=True)
+        have = subprocess.run([vpy, "-c", "import fusioncenter"], capture_output=True,
+                              env={k: v for k, v in os.environ.items()
+                                   if not k.startswith("PYTHON")})
         if have.returncode == 0:
             problems.append("the fresh environment already has fusioncenter")
         t = _step(f"fresh venv, Python {version}, nbclient + ipykernel", t)
@@ -169,6 +218,12 @@ def main(argv: list[str] | None = None) -> int:
         # venv's font cache dies with it: never in a folder other runs read
         runner = tmp / "run_notebook.py"
         runner.write_text(RUNNER)
+        # the install cell where neither the index nor the site has the library: one message
+        problems += install_failure(notebooks[0], vpy, runner, tmp / "no-site",
+                                    dict(env, FUSIONCENTER_BOOK_SITE=f"{site_url}nowhere/",
+                                         PIP_RETRIES="1"))
+        t = _step("install cell without the library: one message", t)
+        env["FUSIONCENTER_BOOK_SITE"] = site_url
         for chapter, src in zip(args.chapters, notebooks, strict=True):
             nb = json.loads(src.read_text())
             for cell in nb["cells"]:
@@ -192,12 +247,17 @@ def main(argv: list[str] | None = None) -> int:
             if got != want:
                 problems.append(f"{chapter}: profile {want!r} in the download, {got!r} on re-run")
             t = _step(f"{chapter} ({res['seconds']:.1f} s, profile {got})", t)
+        if f"/{WHEELS}/{wheel.name}" not in fetched:
+            problems.append(f"the library was not installed from the site's {WHEELS}/ "
+                            f"(requests: {sorted(set(fetched))[:10]})")
         where = subprocess.run([vpy, "-c", "import fusioncenter; print(fusioncenter.__file__)"],
                                capture_output=True, text=True, env=env, cwd=tmp)
         if not where.stdout.strip().startswith(str(venv)):
             problems.append(f"fusioncenter not installed into the student's venv: {where}")
         _step("total", t_all)
     finally:
+        if "server" in locals():
+            server.shutdown()
         if args.keep:
             print(f"student: kept {tmp}")
         else:

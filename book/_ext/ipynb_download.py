@@ -14,7 +14,9 @@ Jupyter cannot read. This extension
   only), to the same notebook on the branch the GitHub workflow publishes them to
   (``fusioncenter_notebooks_branch``, default ``notebooks``).
 
-Links in the notebook point to the site at ``html_baseurl`` (``html.baseurl`` in _config.yml).
+Links in the notebook point to the site at ``html_baseurl`` (``html.baseurl`` in _config.yml),
+and its install cell (``reader_notebook.install_cell``) falls back to the wheel the site carries
+there (``_wheels/``) when the package index does not have the library.
 With no ``repository.url`` in _config.yml, the launch buttons are switched off.
 """
 
@@ -57,6 +59,14 @@ def _site(app, pagename: str) -> str:
     # no site URL configured: links relative to the page (they work next to the built site)
     depth = pagename.count("/")
     return "../" * depth
+
+
+def _public_site(app) -> str | None:
+    """The book's public address (``html.baseurl`` in _config.yml), where the install cell of a
+    downloaded notebook finds the library's wheel (``_wheels/``, written by tools/build_book.py);
+    ``None`` when none is configured (the chapter's own install cell is kept then)."""
+    base = (app.config.html_baseurl or "").strip()
+    return base.rstrip("/") + "/" if base.startswith(("https://", "http://")) else None
 
 
 def _bibliography(app):
@@ -157,7 +167,9 @@ def _resolver(app, pagename: str, doctree, entries) -> Resolver:
         if label not in math:
             return None
         d, number = math[label][0], math[label][1]
-        anchor = f"equation-{label}"
+        # the id MyST gives the equation's node (docutils' make_id: lower case, so
+        # `eq-...-Zbar` is `#equation-eq-...-zbar` on the page)
+        anchor = nodes.make_id(f"equation-{label}")
         nums = env.toc_fignumbers.get(d, {}).get("displaymath", {}).get(anchor)
         text = shown.get(anchor) or (f"({'.'.join(map(str, nums))})" if nums else f"({number})")
         return Link(url(d, anchor), text)
@@ -230,7 +242,8 @@ def _write(app, pagename, templatename, context, doctree):
     reader, problems = reader_notebook(
         nb, _resolver(app, pagename, doctree, app._fc_bib), page_url=page_url,
         book_title=app.config.html_title or app.config.project or "the book", version=__version__,
-        macros=_macros(app), profile=os.environ.get("FUSIONCENTER_PROFILE") or None, glue=glue)
+        macros=_macros(app), profile=os.environ.get("FUSIONCENTER_PROFILE") or None, glue=glue,
+        site=_public_site(app))
     for p in problems:
         LOG.warning(f"reader notebook {pagename}.ipynb: {p}", location=pagename)
     target = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"

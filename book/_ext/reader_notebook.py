@@ -8,6 +8,9 @@ Jupyter shows what the site shows: glued values, "Author (year)" citations with 
 cell at the end, links to the site's pages, bold-titled blockquotes, plain display math. It
 also records the profile the outputs come from, in a note at the top and in the one marked
 line of the install cell, so a re-run uses that profile unless the reader changes the line.
+The install cell itself is written here (:func:`install_cell`): it installs the book's version of
+the library from the package index, else from the wheel the site carries, and stops with one
+message saying what failed and what to do when neither works.
 
 This module knows nothing of Sphinx: the book's cross-reference targets reach it through a
 :class:`Resolver` (``ipynb_download.py`` builds one from the Sphinx environment), so it can be
@@ -230,6 +233,88 @@ class _Rewriter:
         return [f"> **{title}**", ">", *quoted] if quoted else [f"> **{title}**"]
 
 
+#: The downloaded notebook's first code cell (:func:`install_cell` fills in the three values).
+#: It runs in any Jupyter kernel (Colab's IPython 7 too) and in plain Python.
+INSTALL_CELL = r'''
+# Lets this chapter run outside the book's repository (downloaded, Colab,
+# Binder): installs the book's version of its library when it is missing,
+# from the package index, else from the wheel on the book's site.
+# Offline: set PIP_NO_INDEX=1 and PIP_FIND_LINKS=<a folder with the wheels>.
+import importlib
+import importlib.metadata
+import os
+import subprocess
+import sys
+
+@PROFILE@
+BOOK_VERSION = "@VERSION@"
+# the book's site (its wheel: <site>_wheels/); FUSIONCENTER_BOOK_SITE: a mirror
+BOOK_SITE = os.environ.get("FUSIONCENTER_BOOK_SITE", "@SITE@")
+
+
+class InstallFailed(Exception):
+    """Shown by Jupyter as its message alone, not as a traceback."""
+
+    def _render_traceback_(self):
+        return [f"InstallFailed: {self}"]
+
+
+def _install_fusioncenter():
+    try:
+        if importlib.metadata.version("fusioncenter") == BOOK_VERSION:
+            return
+    except importlib.metadata.PackageNotFoundError:
+        pass
+    wheel = (f"{BOOK_SITE.rstrip('/')}/_wheels/"
+             f"fusioncenter-{BOOK_VERSION}-py3-none-any.whl")
+    tries = {"the package index": f"fusioncenter[notebook]=={BOOK_VERSION}",
+             "the book's site": f"fusioncenter[notebook] @ {wheel}"}
+    said = []
+    for where, want in tries.items():
+        run = subprocess.run(
+            [sys.executable, "-m", "pip", "install", "--quiet", "--no-color",
+             "--disable-pip-version-check", want],
+            capture_output=True, text=True)
+        if run.returncode == 0:
+            importlib.invalidate_caches()
+            return
+        errors = [x for x in run.stderr.splitlines() if "ERROR" in x]
+        said.append(f"  from {where}: {(errors or ['pip failed'])[-1]}")
+    raise InstallFailed(
+        f"the library fusioncenter {BOOK_VERSION} could not be installed;"
+        " pip said\n" + "\n".join(said) + "\nWhat to do: connect to the"
+        " internet and run this cell again. Offline: download the wheel\n  "
+        + wheel + "\ninto a folder with the wheels of its dependencies,"
+        " start Jupyter with PIP_NO_INDEX=1 PIP_FIND_LINKS=<that folder>"
+        " and run this cell again.")
+
+
+_install_fusioncenter()
+'''.lstrip("\n")
+
+PROFILE_SET = ('os.environ["FUSIONCENTER_PROFILE"] = "{profile}"  '
+               '# <- THE PROFILE of the outputs below; "fast" runs in seconds, "paper" at the '
+               "papers' scale")
+PROFILE_DEFAULT = 'os.environ.setdefault("FUSIONCENTER_PROFILE", "fast")  # the profile'
+
+
+def install_cell(version: str, site: str, profile: str | None) -> str:
+    """The source of a downloaded notebook's install cell.
+
+    ``version`` is the library's version the outputs come from, ``site`` the book's public
+    address (``html.baseurl``: the wheel is ``<site>_wheels/fusioncenter-<version>-py3-none-any
+    .whl``), ``profile`` the profile the outputs were computed in (``None``: unknown, the cell
+    defaults to ``"fast"``).
+    """
+    if not re.fullmatch(r"[0-9A-Za-z.+!-]+", version or ""):
+        raise ValueError(f"version: a package version such as 0.1.0, not {version!r}")
+    if not re.fullmatch(r"https?://[^\s\"'\\]+/", site or ""):
+        raise ValueError(f"site: an http(s) address ending in /, not {site!r}")
+    line = PROFILE_SET.format(profile=profile) if profile else PROFILE_DEFAULT
+    return (INSTALL_CELL.replace("@PROFILE@", line).replace("@VERSION@", version)
+            .replace("@SITE@", site))
+
+
 def _profile_of(nb: dict) -> str | None:
     for cell in nb.get("cells", []):
         for o in cell.get("outputs", []) if cell.get("cell_type") == "code" else []:
@@ -256,14 +341,17 @@ def expand_macros(text: str, macros: dict[str, str]) -> str:
 def reader_notebook(nb: dict, resolver: Resolver, *, page_url: str, book_title: str,
                     version: str, macros: dict[str, str] | None = None,
                     profile: str | None = None,
-                    glue: dict[str, dict] | None = None) -> tuple[dict, list[str]]:
+                    glue: dict[str, dict] | None = None,
+                    site: str | None = None) -> tuple[dict, list[str]]:
     """Return the reader-ready copy of the executed notebook ``nb`` and a list of problems.
 
     The profile the outputs were computed in is read from the chapter's ``profile: ...`` output
     line (printed by ``fusioncenter.book.setup``); ``profile`` is the fallback when there is
     none. ``glue`` adds glued values to those found in the outputs (MyST-NB moves the hidden
-    ones from its executed notebook to ``<page>.glue.json``). The problems name every role
-    left unresolved and any MyST markup left over.
+    ones from its executed notebook to ``<page>.glue.json``). ``site``, the book's public
+    address, replaces the chapter's install cell by :func:`install_cell` (which falls back to
+    the site's wheel); without it only the cell's profile line is set. The problems name every
+    role left unresolved and any MyST markup left over.
     """
     nb = copy.deepcopy(nb)
     macros = macros or {}
@@ -288,10 +376,10 @@ def reader_notebook(nb: dict, resolver: Resolver, *, page_url: str, book_title: 
         if cell.get("cell_type") == "code" and PROFILE_LINE.search(_source(cell)):
             installer = cell
             break
-    if profile and installer is not None:
-        line = (f'os.environ["FUSIONCENTER_PROFILE"] = "{profile}"  '
-                '# <- THE PROFILE of the outputs below; "fast" runs in seconds, "paper" at the '
-                "papers' scale")
+    if site and installer is not None:
+        installer["source"] = install_cell(version, site, profile)
+    elif profile and installer is not None:
+        line = PROFILE_SET.format(profile=profile)
         installer["source"] = PROFILE_LINE.sub(lambda _m: line, _source(installer), count=1)
     elif installer is None:
         rw.problems.append("no install cell with the FUSIONCENTER_PROFILE line")

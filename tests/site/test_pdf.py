@@ -23,6 +23,13 @@ from pdf_book import APPENDIX, toc_entries  # noqa: E402
 pytestmark = pytest.mark.site
 
 
+def _public_site() -> str:
+    """The site's public address, as _config.yml sets it (html.baseurl)."""
+    import yaml
+
+    return yaml.safe_load((ROOT / "_config.yml").read_text())["html"]["baseurl"]
+
+
 @pytest.fixture(scope="module")
 def site() -> Path:
     return Path(os.environ.get("FUSIONCENTER_SITE", DEFAULT_SITE))
@@ -315,7 +322,7 @@ def test_the_detectors_find_local_links_blank_pages_and_cut_images(tmp_path):
     writer.add_annotation(0, Link(rect=RectangleObject([0, 0, 50, 50]),
                                   url="http://127.0.0.1:41234/book/mo2015/trigger.html"))
     writer.add_annotation(0, Link(rect=RectangleObject([0, 60, 50, 90]),
-                                  url="https://fusioncenter-book.github.io/fusioncenter/"))
+                                  url=_public_site()))
     out = tmp_path / "links.pdf"
     writer.write(out)
     assert local_links(PdfReader(out)) == ["page 1: http://127.0.0.1:41234/book/mo2015/"
