@@ -91,8 +91,10 @@ def test_package_metadata_is_complete_and_any_python_from_311():
     for v in ("3.11", "3.12", "3.13"):
         assert f"Programming Language :: Python :: {v}" in p["classifiers"]
     _notebook_extra_fits_a_jupyter_kernel(p["optional-dependencies"]["notebook"])
+    wanted = (ROOT / "requirements" / "requirements.in").read_text().split()
     for tool in ("build", "twine", "pypdf"):
         assert tool in _lock(), f"{tool} is not pinned in requirements/lock.txt"
+        assert tool in wanted, f"{tool} is not in requirements/requirements.in (make lock drops it)"
 
 
 #: What a Jupyter kernel brings (ipykernel and IPython): Colab pins IPython 7.34.0

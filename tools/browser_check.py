@@ -78,8 +78,9 @@ INSTALL_HINT = ("install Debian's browser with `apt-get install chromium "
 LOCAL_HOST = "127.0.0.1"
 NAV_TIMEOUT_MS = 30_000
 MATHJAX_TIMEOUT_MS = 20_000
-# Not pages: the theme's Jinja macro files that Sphinx copies into _static, and source copies.
-SKIP_DIRS = {"_static", "_sources"}
+# Not pages: the theme's Jinja macro files that Sphinx copies into _static, source copies, and
+# the listing of the library's wheel (_wheels/index.html, written by tools/site_wheel.py).
+SKIP_DIRS = {"_static", "_sources", "_wheels"}
 RAW_TEX = ("\\(", "\\)", "\\[", "\\]", "$$")
 
 
@@ -575,7 +576,7 @@ async ([selector, scrollClass, boxes]) => {
   document.querySelectorAll('.toggle-hidden').forEach(e => e.classList.remove('toggle-hidden'));
   await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
   const main = document.querySelector('article.bd-article') || document.querySelector('main');
-  if (!main) return {clipped: [], scrollable: 0, measured: 0, column: 0};
+  if (!main) return {clipped: [], scrollable: 0, measured: 0, column: 0, inBox: 0, scrolled: []};
   const col = main.getBoundingClientRect();
   const flagged = [];
   const clipped = [];
