@@ -15,7 +15,7 @@ run of more trials when ``n`` is a multiple of the block size
 run of ``n`` (:func:`~fusioncenter.figures.zheng2014.common.subset`).
 The executor and the chunking are not part of the identity: they do not change the numbers.
 
-If the environment variable :data:`fusioncenter.figures.registry.CACHE_ENV` names a folder (the
+If the environment variable ``FUSIONCENTER_COMPUTE_CACHE`` names a folder (the
 book's build sets it), a run is also stored in its subfolder ``zheng2014-runs`` (one ``.npz``
 file per identity without the trials, holding the longest run made, in the cache's format that
 cannot run code and is checked when read, :mod:`fusioncenter._cache`; written atomically, under
@@ -121,9 +121,10 @@ def kept_run(sc, scheme: str, *, feedback: str, l: float, n: int, P: int, seed: 
         If ``sc`` is neither a :class:`~fusioncenter.censoring.scenarios.LinearScenario` nor a
         :class:`~fusioncenter.censoring.vector.VectorScenario` (and as
         :func:`fusioncenter.censoring.run` for bad arguments).
-    fusioncenter.figures.registry.ComputeCacheError
-        If the stored file of the run cannot be read (permissions); a file that fails its
-        integrity check is not used (a warning names it) and the run is made again.
+    OSError
+        (``ComputeCacheError``) If the stored file of the run cannot be read (permissions);
+        a file that fails its integrity check is not used (a warning names it) and the run is
+        made again.
     """
     if not isinstance(sc, cs.LinearScenario | cv.VectorScenario):
         raise ValueError(f"sc must be a LinearScenario or a VectorScenario, got "
