@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import re
+import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -136,3 +138,14 @@ def test_build_fingerprint_tracks_library_and_lock(tmp_path, monkeypatch):
     bb.finish(out, want)  # the fingerprint is written only after a successful build
     bb.prepare(out, "fast")  # same inputs: the cache is kept
     assert (cache / "kept").exists()
+
+
+@pytest.mark.parametrize("tool", sorted(p.stem for p in (ROOT / "tools").glob("*.py")))
+def test_every_tool_imports(tool):
+    """A tool's imports resolve (a stage such as tools/test_pythons.py fails in 0.1 s otherwise,
+    long after the change that broke it)."""
+    code = (f"import sys; sys.path.insert(0, {str(ROOT / 'tools')!r}); "
+            f"sys.argv = ['{tool}']; import importlib; importlib.import_module({tool!r})")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                       timeout=120)
+    assert p.returncode == 0, p.stderr[-2000:]

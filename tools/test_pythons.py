@@ -28,7 +28,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
-from student_path import build_wheel, installer  # noqa: E402
+from site_wheel import build_wheel  # noqa: E402
+from student_path import installer  # noqa: E402
 
 VERSIONS = ["3.12", "3.13"]
 # tests of the repository (its source tree, tools and structure) and of the book (Jupyter Book,
