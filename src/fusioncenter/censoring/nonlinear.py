@@ -109,7 +109,7 @@ def log_silent_probability(m, h):
         broadcast.
     """
     m = _v.finite("m", m)
-    h = _v._as_float("h", h)
+    h = _v.as_float("h", h)
     if np.any(np.isnan(h)) or np.any(h < 0):
         raise ValueError(f"h must be a non-negative half-width (a threshold; +inf allowed), "
                          f"got {h!r}")

@@ -271,7 +271,7 @@ def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
     ValueError
         If ``pos`` is text, holds a NaN, or does not end in an axis of length 2.
     """
-    pos = _v._as_float("pos", pos)
+    pos = _v.as_float("pos", pos)
     if np.isnan(pos).any():
         raise ValueError(f"pos must not be NaN (a position; +-inf is a target infinitely far "
                          f"away, amplitude 0), got {pos!r}")

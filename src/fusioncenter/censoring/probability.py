@@ -661,7 +661,7 @@ def _truncated_normal(u, lo, hi):
 # once); the public names below check their arguments and then call the same kernel, so a
 # valid call gives the same bits.
 def _half_widths(name: str, h) -> np.ndarray:
-    h = _v._as_float(name, h)
+    h = _v.as_float(name, h)
     if np.any(np.isnan(h)) or np.any(h < 0):
         raise ValueError(f"{name} must be a non-negative half-width (+inf allowed), got {h!r}")
     return h
@@ -677,7 +677,7 @@ def _check_truncated(u, lo, hi) -> dict:
     u = _finite("u", u)
     if np.any((u < 0) | (u > 1)):
         raise ValueError(f"u must lie in [0, 1] (uniforms), got {u!r}")
-    lo, hi = _v._as_float("lo", lo), _v._as_float("hi", hi)
+    lo, hi = _v.as_float("lo", lo), _v.as_float("hi", hi)
     if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
         raise ValueError("lo and hi must not be NaN (interval bounds; +-inf allowed)")
     ub, lob, hib = _v.broadcast(u=u, lo=lo, hi=hi)
