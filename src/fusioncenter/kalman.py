@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import _kalman_kernel
+from fusioncenter import _kalman_core
 from fusioncenter import _validate as _v
 from fusioncenter.riccati import singular
 
@@ -187,7 +187,7 @@ class LinearGaussianModel:
         for k in range(T1):
             innov = y[:, k] - m @ self.C.T
             try:
-                xhat[:, k], Ps[k], m, P = _kalman_kernel.kalman_step(
+                xhat[:, k], Ps[k], m, P = _kalman_core.kalman_step(
                     m, P, innov, self.C, self.R, self.A, self.Q, r_singular=r_singular,
                     check=k == 0)
             except ValueError as err:
@@ -281,8 +281,8 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
         no posterior exists; a zero innovation there is fine).
     """
     _step_shapes(x, P, innov, C, R, A, Q)
-    return KalmanStep(*_kalman_kernel.kalman_step(x, P, innov, C, R, A, Q,
-                                                r_singular=r_singular, check=check))
+    return KalmanStep(*_kalman_core.kalman_step(x, P, innov, C, R, A, Q,
+                                              r_singular=r_singular, check=check))
 
 
 def _step_shapes(x, P, innov, C, R, A, Q) -> None:
