@@ -399,7 +399,8 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
 @numba.njit(cache=True, nogil=True)
 def _amp(px, py, sx, sy, alpha, power):
     """``sqrt(power / (1 + alpha d^2))`` at ``(px, py)`` for a sensor at ``(sx, sy)``: the
-    NumPy arithmetic of ``censoring.nonlinear._amp_from_d2`` (exponent 2), in its order."""
+    NumPy arithmetic of ``censoring._nonlinear_core.amplitude_from_d2`` (exponent 2), in its
+    order."""
     dx = px - sx
     dy = py - sy
     d2 = dx * dx + dy * dy
