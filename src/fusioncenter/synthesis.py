@@ -51,6 +51,7 @@ from fusioncenter import _kalman_core, censoring, montecarlo, particle
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
+from fusioncenter.censoring import _probability_core
 from fusioncenter.fading import Rayleigh
 from fusioncenter.kalman import LinearGaussianModel
 
@@ -493,7 +494,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * censoring.probability._log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * _probability_core.log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):

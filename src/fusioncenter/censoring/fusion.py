@@ -11,11 +11,13 @@ import math
 import numpy as np
 
 from fusioncenter import _kernels, _transition_kernels, _ziggurat, particle
+from fusioncenter.censoring._probability_core import (
+    log_prob_inside,
+    log_region_probability,
+    log_silent_constant,
+    truncated_normal,
+)
 from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
-from fusioncenter.censoring.probability import _log_prob_inside as log_prob_inside
-from fusioncenter.censoring.probability import _log_region_probability as log_region_probability
-from fusioncenter.censoring.probability import _log_silent_constant as log_silent_constant
-from fusioncenter.censoring.probability import _truncated_normal as truncated_normal
 from fusioncenter.censoring.scenarios import LinearScenario
 from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
 

@@ -57,7 +57,7 @@ from fusioncenter import _kernels, montecarlo, particle
 from fusioncenter import _validate as _v
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _nonlinear_core, fusion, results, scenarios
+from fusioncenter.censoring import _nonlinear_core, _probability_core, fusion, results, scenarios
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.nonlinear_model import (
     NonlinearScenario,
@@ -115,7 +115,7 @@ def log_silent_probability(m, h):
 def _log_silent(m, h):
     """:func:`log_silent_probability` without checks (the filters' own calls)."""
     m, h = np.broadcast_arrays(np.asarray(m, dtype=float), np.asarray(h, dtype=float))
-    return cprob._log_prob_inside(m, h)
+    return _probability_core.log_prob_inside(m, h)
 
 
 def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):

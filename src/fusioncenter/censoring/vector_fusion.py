@@ -10,7 +10,7 @@ import numpy as np
 from fusioncenter import _kernels, _transition_kernels, montecarlo, particle
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import fusion, results
+from fusioncenter.censoring import _probability_core, fusion, results
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.ellipse import (
     LIKELIHOODS,
@@ -117,7 +117,7 @@ def _truncated_std_normal(rng, lo, hi):
     """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
     :func:`fusioncenter.censoring.probability.truncated_normal` at uniforms drawn from ``rng``."""
     u = rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi)))
-    return cprob._truncated_normal(u, lo, hi)
+    return _probability_core.truncated_normal(u, lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):
