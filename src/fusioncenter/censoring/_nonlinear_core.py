@@ -20,8 +20,20 @@ __all__ = ["amplitude_from_d2", "amplitude", "jacobian", "ekf_step"]
 
 def amplitude_from_d2(sc, d2):
     """:func:`fusioncenter.censoring.nonlinear_model.amplitude_from_d2`: ``sqrt(power / (1 + alpha
-    d^n))`` of the scenario ``sc`` from the squared distances ``d2``, in place on ``d2``
-    (returned)."""
+    d^n))`` from the squared distances, in place on ``d2``.
+
+    Parameters
+    ----------
+    sc : NonlinearScenario
+        The scenario (``power``, ``alpha``, ``exponent``).
+    d2 : numpy.ndarray
+        Squared distances, overwritten.
+
+    Returns
+    -------
+    numpy.ndarray
+        The amplitudes (the array ``d2``).
+    """
     if sc.exponent != 2.0:
         np.power(d2, sc.exponent / 2, out=d2)
     if sc.alpha != 1.0:
@@ -33,7 +45,20 @@ def amplitude_from_d2(sc, d2):
 
 def amplitude(scenario, pos) -> np.ndarray:
     """:func:`fusioncenter.censoring.nonlinear_model.amplitude` without the NaN check (the
-    filters' own calls)."""
+    filters' own calls).
+
+    Parameters
+    ----------
+    scenario : NonlinearScenario
+        The scenario.
+    pos : array_like
+        Positions ``(..., 2)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``h^i(pos)`` ``(..., N)``.
+    """
     pos = np.asarray(pos, dtype=float)
     if pos.shape[-1:] != (2,):
         raise ValueError(f"pos must end in an (x, y) axis of length 2, got {pos.shape}")
@@ -44,7 +69,20 @@ def amplitude(scenario, pos) -> np.ndarray:
 
 def jacobian(scenario, x) -> np.ndarray:
     """:func:`fusioncenter.censoring.nonlinear_model.jacobian` without the finiteness check (the
-    filters' own calls)."""
+    filters' own calls).
+
+    Parameters
+    ----------
+    scenario : NonlinearScenario
+        The scenario.
+    x : array_like
+        States ``(..., 4)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``g^i`` ``(..., N, 4)``.
+    """
     x = np.asarray(x, dtype=float)
     if x.shape[-1:] != (4,):
         raise ValueError(f"x must end in a state axis of length 4, got {x.shape}")
@@ -64,8 +102,25 @@ def jacobian(scenario, x) -> np.ndarray:
 
 
 def ekf_step(P, g, F, Q, r):
-    """:func:`fusioncenter.censoring.nonlinear_model.ekf_covariance_step` without checks (``s >
-    0``; the filters' own calls)."""
+    """:func:`fusioncenter.censoring.nonlinear_model.ekf_covariance_step` without checks (the
+    filters' own calls: ``s > 0``).
+
+    Parameters
+    ----------
+    P : numpy.ndarray
+        ``P_{k-1|k-1} (..., d, d)``.
+    g : numpy.ndarray
+        Gradients ``(..., d)``.
+    F, Q : numpy.ndarray
+        Transition and process-noise covariance ``(d, d)``.
+    r : array_like
+        Noise variance(s).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(P_pred, s, P_upd)``.
+    """
     Pp = F @ P @ F.T + Q
     Pg = (Pp @ g[..., None])[..., 0]  # (..., d)
     s = np.einsum("...k,...k->...", g, Pg) + r

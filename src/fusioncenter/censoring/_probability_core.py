@@ -178,6 +178,23 @@ def cdf_owen(h, k, rho):
     ``1e-300``; the limit is continuous). ``|rho| = 1`` (up to ``1e-12``) uses the degenerate
     laws ``Phi(min(h, k))`` and ``max(Phi(h) + Phi(k) - 1, 0)``. Infinite ``h``, ``k`` are
     allowed. Vectorized through ``scipy.special.owens_t``; absolute accuracy ~1e-15.
+
+    Parameters
+    ----------
+    h, k : array_like
+        Upper bounds (``-inf`` / ``inf`` allowed), broadcast together.
+    rho : array_like
+        Correlation in ``[-1, 1]``.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The probabilities, clipped to ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        If ``h``, ``k`` or ``rho`` is NaN, or ``|rho| > 1``.
     """
     h, k, rho = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (h, k, rho)))
     if np.any(np.isnan(h)) or np.any(np.isnan(k)) or np.any(np.isnan(rho)):
@@ -308,7 +325,20 @@ def _rectangle(l1, u1, l2, u2, rho):
 
 
 def bivariate_rectangle(l1, u1, l2, u2, rho):
-    """:func:`fusioncenter.censoring.probability.bivariate_rectangle` (documented there)."""
+    """:func:`fusioncenter.censoring.probability.bivariate_rectangle` (documented there).
+
+    Parameters
+    ----------
+    l1, u1, l2, u2 : array_like
+        Bounds (``-inf`` / ``inf`` allowed), broadcast together.
+    rho : array_like
+        Correlation in ``[-1, 1]``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The probabilities, in ``[0, 1]``.
+    """
     fast, careful, logs = _rectangle(l1, u1, l2, u2, rho)
     with np.errstate(under="ignore"):
         fast[careful] = np.exp(logs)
@@ -316,7 +346,20 @@ def bivariate_rectangle(l1, u1, l2, u2, rho):
 
 
 def log_bivariate_rectangle(l1, u1, l2, u2, rho):
-    """:func:`fusioncenter.censoring.probability.log_bivariate_rectangle` (documented there)."""
+    """:func:`fusioncenter.censoring.probability.log_bivariate_rectangle` (documented there).
+
+    Parameters
+    ----------
+    l1, u1, l2, u2 : array_like
+        Bounds (``-inf`` / ``inf`` allowed), broadcast together.
+    rho : array_like
+        Correlation in ``[-1, 1]``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The log probabilities (``<= 0``).
+    """
     fast, careful, logs = _rectangle(l1, u1, l2, u2, rho)
     with np.errstate(divide="ignore"):
         out = np.array(np.log(fast))
