@@ -937,7 +937,7 @@ def test_bivariate_rectangle_fast_path_unchanged_and_vectorized():
     u1, u2 = l1 + rng.uniform(0.5, 3, 50), l2 + rng.uniform(0.5, 3, 50)
     rho = rng.uniform(-0.9, 0.9, 50)
     got = cs.bivariate_rectangle(l1, u1, l2, u2, rho)
-    F = cs.probability._cdf_owen
+    F = cs._probability_core.cdf_owen
     ref = np.clip(F(u1, u2, rho) - F(l1, u2, rho) - F(u1, l2, rho) + F(l1, l2, rho), 0, 1)
     big = ref >= cs.probability.CAREFUL_BELOW
     assert big.sum() > 40 and np.array_equal(got[big], ref[big])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fusioncenter import _kernels, particle
+from fusioncenter import _kernels, _transition_kernels, particle
 
 
 def _numpy_systematic(w, u):
@@ -120,7 +120,7 @@ def test_propagate_kernel_equals_numpy(dt, k):
         p += g[..., j] * L[0, j]
         v += g[..., j] * L[1, j]
     y = particle.by_component(x)
-    _kernels.propagate_wna(y, dt, g, L)
+    _transition_kernels.propagate_wna(y, dt, g, L)
     assert np.array_equal(y[..., 0], p) and np.array_equal(y[..., 1], v)
     F = np.array([[1.0, dt], [0.0, 1.0]])
     np.testing.assert_allclose(y, x @ F.T + g @ L.T, rtol=1e-13, atol=1e-13)
@@ -144,7 +144,7 @@ def test_linear_transition_kernel_is_bitwise_matmul(d, k, P):
     if k:
         want += g @ L.T
     got = np.empty_like(x)
-    _kernels.linear_transition(x, F, g, L, got)
+    _transition_kernels.linear_transition(x, F, g, L, got)
     np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-12)
     if _BLAS_FMA:
         np.testing.assert_array_equal(got, want)
@@ -336,7 +336,7 @@ def test_inline_normals_are_numpys_bit_for_bit(seed):
     s = _ziggurat.draw_state(rng)
     n = 400_000
     got = np.empty(n)
-    _kernels.sfc64_normals(s, *zig, got)
+    _transition_kernels.sfc64_normals(s, *zig, got)
     want = rng.standard_normal(n)
     assert np.array_equal(got, want)
     assert np.array_equal(s, _ziggurat.draw_state(rng))

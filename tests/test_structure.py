@@ -38,6 +38,19 @@ def _resolve(module: str, name: str | None) -> str:
     return module
 
 
+def _module_of(node: ast.expr, aliases: dict[str, str]) -> str | None:
+    """The fusioncenter module an expression names (``m`` or ``pkg.m``, through the names the
+    module's imports bound), or ``None``."""
+    parts = []
+    while isinstance(node, ast.Attribute):
+        parts.append(node.attr)
+        node = node.value
+    if not isinstance(node, ast.Name) or node.id not in aliases:
+        return None
+    dotted = ".".join([aliases[node.id], *reversed(parts)])
+    return dotted if dotted in MODULES else None
+
+
 def _imports(mod: str, path: Path):
     """``(edges, private)``: the fusioncenter modules ``mod`` imports (anywhere in its body),
     and the underscore names it takes from other fusioncenter modules (by ``from ... import``
@@ -66,12 +79,15 @@ def _imports(mod: str, path: Path):
                     edges.add(a.name)
                     if a.asname:
                         aliases[a.asname] = a.name
+                    else:  # ``import fusioncenter.x`` binds ``fusioncenter``
+                        aliases["fusioncenter"] = "fusioncenter"
     for node in ast.walk(tree):
-        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
-                and node.value.id in aliases and node.attr.startswith("_")
-                and not node.attr.startswith("__")
-                and f"{aliases[node.value.id]}.{node.attr}" not in MODULES):
-            private.append(f"{aliases[node.value.id]}.{node.attr}")
+        if not (isinstance(node, ast.Attribute) and node.attr.startswith("_")
+                and not node.attr.startswith("__")):
+            continue
+        owner = _module_of(node.value, aliases)  # ``m._x``, also ``pkg.m._x``
+        if owner is not None and f"{owner}.{node.attr}" not in MODULES:
+            private.append(f"{owner}.{node.attr}")
     edges.discard(mod)
     return edges, private
 
@@ -122,17 +138,27 @@ def test_the_cycle_finder_finds_a_cycle():
 
 
 def test_the_checks_see_violations(tmp_path):
-    """The private-name check catches both forms (``from m import _x`` and ``m._x``), and
-    ``from package import submodule`` is an edge to the submodule."""
+    """The private-name check catches both forms (``from m import _x`` and ``m._x``, also through
+    a package: ``pkg.m._x``; a private module's public names are allowed), and ``from package
+    import submodule`` is an edge to the submodule."""
     path = tmp_path / "probe.py"
     path.write_text("from fusioncenter.figures.registry import _load\n"
                     "from fusioncenter.figures import registry\n"
                     "from fusioncenter.figures.zheng2014 import common\n"
-                    "registry._order\n")
+                    "from fusioncenter import censoring\n"
+                    "import fusioncenter.kalman\n"
+                    "registry._order\n"
+                    "censoring.probability._log_prob_inside\n"
+                    "fusioncenter.kalman._scale\n"
+                    "censoring._probability_core.log_prob_inside\n"
+                    "common.x._y\n")
     edges, private = _imports("fusioncenter.probe", path)
-    assert edges == {"fusioncenter.figures.registry", "fusioncenter.figures.zheng2014.common"}
-    assert sorted(private) == ["fusioncenter.figures.registry._load",
-                               "fusioncenter.figures.registry._order"]
+    assert edges == {"fusioncenter.figures.registry", "fusioncenter.figures.zheng2014.common",
+                     "fusioncenter.censoring", "fusioncenter.kalman"}
+    assert sorted(private) == ["fusioncenter.censoring.probability._log_prob_inside",
+                               "fusioncenter.figures.registry._load",
+                               "fusioncenter.figures.registry._order",
+                               "fusioncenter.kalman._scale"]
 
 
 def test_no_import_circles():

@@ -1,8 +1,8 @@
 """Compiled inner loops of the particle filter :func:`fusioncenter.particle.run_filter` and of
 its fusion-centre models (:class:`fusioncenter.censoring.LinearFusionCentre`, the vector
 observations' model in :mod:`fusioncenter.censoring.vector`, the nonlinear model's amplitudes
-and silent factors in :mod:`fusioncenter.censoring.nonlinear`), and the linear-Gaussian
-transition of :class:`fusioncenter.particle.LinearGaussianDynamics`.
+and silent factors in :mod:`fusioncenter.censoring.nonlinear`). The transitions (and the
+noise they draw inline) are in :mod:`fusioncenter._transition_kernels`.
 
 Once the weights of a step are known, NumPy needs about a dozen passes over the
 ``(trials, particles)`` arrays for what a particle filter does with them: three weighted sums
@@ -26,15 +26,11 @@ import math
 
 import numba
 import numpy as np
-from numba import types
-from numba.extending import intrinsic
 
 __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
-           "linear_transition", "power_table", "propagate_wna", "received_terms",
-           "sensor_terms", "sum_sensors", "systematic_ancestors", "table_shifted", "take_rows",
-           "weighted_moments", "resample_rows", "gauss_terms", "table_shifted_add",
-           "sfc64_normals", "propagate_wna_draw",
-           "linear_transition_draw"]
+           "power_table", "received_terms", "sensor_terms", "sum_sensors",
+           "systematic_ancestors", "table_shifted", "take_rows", "weighted_moments",
+           "resample_rows", "gauss_terms", "table_shifted_add"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -325,233 +321,6 @@ def power_table(coef, G, inv_h, x1, x2, out, far):
 
 
 @numba.njit(cache=True, nogil=True)
-def propagate_wna(x, dt, g, L):
-    """The white-noise-acceleration transition in place: for every particle ``x[b, i] = (p, v)``,
-    ``p <- p + dt v``, then for each noise column ``j``: ``p <- p + g[b, i, j] L[0, j]`` and
-    ``v <- v + g[b, i, j] L[1, j]`` (``L L^T = Q``), in this order (the NumPy arithmetic of
-    ``x F^T + g L^T`` written out for ``F = [[1, dt], [0, 1]]``)."""
-    m, P = x.shape[0], x.shape[1]
-    k = g.shape[2]
-    for b in range(m):
-        for i in range(P):
-            p = x[b, i, 0]
-            v = x[b, i, 1]
-            p = p + v * dt
-            for j in range(k):
-                gj = g[b, i, j]
-                p = p + gj * L[0, j]
-                v = v + gj * L[1, j]
-            x[b, i, 0] = p
-            x[b, i, 1] = v
-
-
-# ----------------------------------------------------------------------------- inline normals
-_U1 = np.uint64(1)
-_U3 = np.uint64(3)
-_U8 = np.uint64(8)
-_U11 = np.uint64(11)
-_U24 = np.uint64(24)
-_U40 = np.uint64(40)
-_M8 = np.uint64(0xFF)
-_M52 = np.uint64(0xFFFFFFFFFFFFF)
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _sfc64_next(s):
-    """The next 64-bit output of the SFC64 state ``s (4,) uint64`` (NumPy's algorithm)."""
-    out = s[0] + s[1] + s[3]
-    s[3] = s[3] + _U1
-    s[0] = s[1] ^ (s[1] >> _U11)
-    s[1] = s[2] + (s[2] << _U3)
-    s[2] = ((s[2] << _U24) | (s[2] >> _U40)) + out
-    return out
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _sfc64_double(s):
-    """A uniform in ``[0, 1)`` from the top 53 bits (NumPy's ``next_double``)."""
-    return np.float64(_sfc64_next(s) >> _U11) * (1.0 / 9007199254740992.0)
-
-
-@numba.njit(cache=True, nogil=True)
-def _normal_rare(s, idx, rabs, x, fi, r, inv_r):
-    """The ziggurat's rare branches (about 1 % of the draws), after the layer test failed for
-    the 64-bit output that gave ``idx``, ``rabs`` and ``x``: the tail (layer 0) or the wedge
-    test. Returns ``(accepted, value)``; not accepted: the caller draws again."""
-    if idx == 0:
-        while True:
-            xx = -inv_r * math.log1p(-_sfc64_double(s))
-            yy = -math.log1p(-_sfc64_double(s))
-            if yy + yy > xx * xx:
-                return True, (-(r + xx) if (rabs >> _U8) & _U1 else r + xx)
-    if (fi[idx - 1] - fi[idx]) * _sfc64_double(s) + fi[idx] < math.exp(-0.5 * x * x):
-        return True, x
-    return False, 0.0
-
-
-@numba.njit(cache=True, nogil=True)
-def sfc64_normals(s, ki, wi, fi, r, inv_r, out):
-    """Fill ``out`` (flat order) with standard normals from the SFC64 state ``s (4,) uint64``:
-    NumPy's 256-layer ziggurat with its tables ``ki, wi, fi`` and tail constants
-    (:func:`fusioncenter._ziggurat.tables`), so NumPy's ``standard_normal`` numbers. (The
-    common branch is written out in each kernel that draws: calling a compiled function with
-    the table arrays for every draw costs more than the draw.)"""
-    o = out.reshape(-1)
-    for n in range(o.shape[0]):
-        while True:
-            u = _sfc64_next(s)
-            idx = np.intp(u & _M8)
-            u = u >> _U8
-            rabs = (u >> _U1) & _M52
-            x = np.float64(rabs) * wi[idx]
-            if u & _U1:
-                x = -x
-            if rabs < ki[idx]:
-                break
-            ok, x = _normal_rare(s, idx, rabs, x, fi, r, inv_r)
-            if ok:
-                break
-        o[n] = x
-
-
-@numba.njit(cache=True, nogil=True)
-def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
-    """:func:`propagate_wna` with the normals ``g[b, i, j]`` drawn inline (as
-    :func:`sfc64_normals`) from the SFC64 state ``s`` in the order ``standard_normal(out=g)``
-    fills ``g (m, P, k)`` (row-major): the same numbers, the same arithmetic, without the array
-    of normals."""
-    m, P = x.shape[0], x.shape[1]
-    k = L.shape[1]
-    for b in range(m):
-        for i in range(P):
-            p = x[b, i, 0]
-            v = x[b, i, 1]
-            p = p + v * dt
-            for j in range(k):
-                while True:
-                    u = _sfc64_next(s)
-                    idx = np.intp(u & _M8)
-                    u = u >> _U8
-                    rabs = (u >> _U1) & _M52
-                    gj = np.float64(rabs) * wi[idx]
-                    if u & _U1:
-                        gj = -gj
-                    if rabs < ki[idx]:
-                        break
-                    ok, gj = _normal_rare(s, idx, rabs, gj, fi, r, inv_r)
-                    if ok:
-                        break
-                p = p + gj * L[0, j]
-                v = v + gj * L[1, j]
-            x[b, i, 0] = p
-            x[b, i, 1] = v
-
-
-@intrinsic
-def _fma(typingctx, a, b, c):
-    """``a b + c`` rounded once (the fused multiply-add instruction)."""
-    sig = types.float64(types.float64, types.float64, types.float64)
-
-    def codegen(context, builder, signature, args):
-        return builder.fma(*args)
-
-    return sig, codegen
-
-
-@numba.njit(cache=True, nogil=True)
-def _row_4_2(x0, x1, x2, x3, g0, g1, F, L, j):
-    acc = _fma(x3, F[j, 3], _fma(x2, F[j, 2], _fma(x1, F[j, 1], x0 * F[j, 0])))
-    return acc + _fma(g1, L[j, 1], g0 * L[j, 0])
-
-
-@numba.njit(cache=True, nogil=True)
-def _transition_4_2(x, F, g, L, out):
-    """:func:`linear_transition` written out for ``d = 4``, ``k = 2`` (the same arithmetic)."""
-    n, P = x.shape[0], x.shape[1]
-    for b in range(n):
-        for p in range(P):
-            x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
-            g0, g1 = g[b, p, 0], g[b, p, 1]
-            out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
-            out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
-            out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
-            out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
-
-
-@numba.njit(cache=True, nogil=True)
-def linear_transition(x, F, g, L, out):
-    """``out = x @ F.T + g @ L.T`` for C-contiguous ``x (n, P, d)`` and ``g (n, P, k)``, with
-    the arithmetic of the BLAS ``dgemm`` that NumPy's ``matmul`` calls for each trial's
-    contiguous ``(P, d)`` block (OpenBLAS on x86-64 with FMA: each element is the chain
-    ``x_0 F_j0``, then ``fma(x_m, F_jm, acc)`` for ``m = 1..d-1``), the two products added
-    last. ``tests/test_kernels.py`` checks it bit for bit against ``matmul`` on dense random
-    matrices, so a machine whose BLAS sums otherwise fails there."""
-    n, P, d = x.shape
-    k = g.shape[2]
-    if d == 4 and k == 2:  # the nonlinear model's (white-noise acceleration in x and y)
-        _transition_4_2(x, F, g, L, out)
-        return
-    for b in range(n):
-        for p in range(P):
-            for j in range(d):
-                acc = x[b, p, 0] * F[j, 0]
-                for m in range(1, d):
-                    acc = _fma(x[b, p, m], F[j, m], acc)
-                if k:
-                    noise = g[b, p, 0] * L[j, 0]
-                    for m in range(1, k):
-                        noise = _fma(g[b, p, m], L[j, m], noise)
-                    acc = acc + noise
-                out[b, p, j] = acc
-
-
-@numba.njit(cache=True, nogil=True)
-def linear_transition_draw(x, F, L, s, ki, wi, fi, r, inv_r, out):
-    """:func:`linear_transition` with the normals ``g[b, p, :]`` drawn inline (as
-    :func:`sfc64_normals`) from the SFC64 state ``s``, particle after particle, in the order
-    ``standard_normal`` fills ``g (n, P, k)``: the same numbers and the same arithmetic
-    (including the written-out ``d = 4``, ``k = 2`` case), without the array of normals."""
-    n, P, d = x.shape
-    k = L.shape[1]
-    g = np.empty(max(k, 1))
-    for b in range(n):
-        for p in range(P):
-            for m in range(k):
-                while True:
-                    u = _sfc64_next(s)
-                    idx = np.intp(u & _M8)
-                    u = u >> _U8
-                    rabs = (u >> _U1) & _M52
-                    gm = np.float64(rabs) * wi[idx]
-                    if u & _U1:
-                        gm = -gm
-                    if rabs < ki[idx]:
-                        break
-                    ok, gm = _normal_rare(s, idx, rabs, gm, fi, r, inv_r)
-                    if ok:
-                        break
-                g[m] = gm
-            if d == 4 and k == 2:
-                x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
-                g0, g1 = g[0], g[1]
-                out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
-                out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
-                out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
-                out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
-                continue
-            for j in range(d):
-                acc = x[b, p, 0] * F[j, 0]
-                for q in range(1, d):
-                    acc = _fma(x[b, p, q], F[j, q], acc)
-                if k:
-                    noise = g[0] * L[j, 0]
-                    for q in range(1, k):
-                        noise = _fma(g[q], L[j, q], noise)
-                    acc = acc + noise
-                out[b, p, j] = acc
-
-
-@numba.njit(cache=True, nogil=True)
 def table_shifted(coef, n_int, y, shift, scale, out):
     """Interpolation table (:class:`fusioncenter.censoring.tables.LogTable`, even) at
     ``|y[b, i] - shift[b]| * scale`` in units of the table's step: ``out[b, i]`` is the Horner
@@ -630,7 +399,8 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
 @numba.njit(cache=True, nogil=True)
 def _amp(px, py, sx, sy, alpha, power):
     """``sqrt(power / (1 + alpha d^2))`` at ``(px, py)`` for a sensor at ``(sx, sy)``: the
-    NumPy arithmetic of ``censoring.nonlinear._amp_from_d2`` (exponent 2), in its order."""
+    NumPy arithmetic of ``censoring._nonlinear_core.amplitude_from_d2`` (exponent 2), in its
+    order."""
     dx = px - sx
     dy = py - sy
     d2 = dx * dx + dy * dy

@@ -42,9 +42,9 @@ import numpy as np
 
 from fusioncenter._docstrings import Glossary
 
-__all__ = ["is_text", "posint", "integer", "finite", "positive", "nonneg", "one_of", "covariance",
-           "square", "finite_result", "shape_is", "broadcast", "received", "consistent",
-           "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
+__all__ = ["is_text", "as_float", "posint", "integer", "finite", "positive", "nonneg", "one_of",
+           "covariance", "square", "finite_result", "shape_is", "broadcast", "received",
+           "consistent", "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
 
 #: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
 #: * max |M|`` entrywise.
@@ -103,7 +103,10 @@ def is_text(value) -> bool:
     return False
 
 
-def _as_float(name: str, value) -> np.ndarray:
+@_doc(returns=("numpy.ndarray", "``numpy.asarray(value, dtype=float)`` (0-d for a scalar)."),
+      raises=(("ValueError", "If ``value`` is text or not convertible to floats."),))
+def as_float(name: str, value) -> np.ndarray:
+    """A float array, any values (NaN and infinities allowed); text refused."""
     if is_text(value):
         raise ValueError(f"{name} must be a real number or array of them, not text, "
                          f"got {value!r}")
@@ -118,7 +121,7 @@ def _as_float(name: str, value) -> np.ndarray:
                              "entry."),))
 def finite(name: str, value) -> np.ndarray:
     """A float array with finite entries."""
-    arr = _as_float(name, value)
+    arr = as_float(name, value)
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be finite, got {value!r}")
     return arr
@@ -373,7 +376,7 @@ def received(sent, z, name: str = "z", *, axis_extra: int = 0) -> tuple[np.ndarr
                                                                           & (sent != 1))):
         raise ValueError(f"sent must hold booleans (or 0/1), got {sent!r}")
     sent = sent.astype(bool)
-    z = _as_float(name, z)
+    z = as_float(name, z)
     mask = sent.reshape(sent.shape + (1,) * axis_extra)
     try:
         mask_b, z_b = np.broadcast_arrays(mask, z)

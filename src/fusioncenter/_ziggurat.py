@@ -3,7 +3,7 @@
 ``numpy.random.Generator.standard_normal`` on an SFC64 bit generator is a 256-layer ziggurat
 (one 64-bit output per draw in 99 % of the cases: 8 bits pick the layer, one the sign, 52 the
 abscissa; the wedges and the tail use more outputs and ``exp`` / ``log1p``). The kernels of
-:mod:`fusioncenter._kernels` can run the same algorithm inline (``_kernels.sfc64_normal``), so
+:mod:`fusioncenter._transition_kernels` run the same algorithm inline (``sfc64_normals``), so
 a particle filter draws its noise in the pass that uses it, with NumPy's numbers. What they
 need is NumPy's own three tables (acceptance bounds ``ki``, widths ``wi``, densities ``fi``):
 these were generated at high precision and cannot be recomputed in double precision to the
@@ -77,7 +77,7 @@ def tables():
     ``None`` (see the module docstring). ``FUSIONCENTER_INLINE_NORMALS=0`` disables them."""
     if os.environ.get("FUSIONCENTER_INLINE_NORMALS", "1") == "0":
         return None
-    from fusioncenter import _kernels
+    from fusioncenter import _transition_kernels
 
     here = os.path.dirname(np.random.__file__)
     for path in sorted(glob.glob(os.path.join(here, "_generator*"))):
@@ -93,7 +93,7 @@ def tables():
         rng = np.random.Generator(np.random.SFC64(20141031))
         s = draw_state(rng)
         mine = np.empty(CHECK_DRAWS)
-        _kernels.sfc64_normals(s, *zig, mine)
+        _transition_kernels.sfc64_normals(s, *zig, mine)
         want = rng.standard_normal(CHECK_DRAWS)
         if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)):
             return zig

@@ -26,8 +26,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from fusioncenter import _kalman_core
 from fusioncenter import _validate as _v
-from fusioncenter.riccati import measurement_update, singular, solve_psd
+from fusioncenter.riccati import singular
 
 __all__ = ["LinearGaussianModel", "KalmanStep", "kalman_step", "constant_velocity"]
 
@@ -186,9 +187,9 @@ class LinearGaussianModel:
         for k in range(T1):
             innov = y[:, k] - m @ self.C.T
             try:
-                xhat[:, k], Ps[k], m, P = _kalman_step(m, P, innov, self.C, self.R, self.A,
-                                                       self.Q, r_singular=r_singular,
-                                                       check=k == 0)
+                xhat[:, k], Ps[k], m, P = _kalman_core.kalman_step(
+                    m, P, innov, self.C, self.R, self.A, self.Q, r_singular=r_singular,
+                    check=k == 0)
             except ValueError as err:
                 if not str(err).startswith("innov contradicts"):
                     raise
@@ -280,40 +281,8 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
         no posterior exists; a zero innovation there is fine).
     """
     _step_shapes(x, P, innov, C, R, A, Q)
-    return _kalman_step(x, P, innov, C, R, A, Q, r_singular=r_singular, check=check)
-
-
-def _kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
-                 check: bool = False) -> KalmanStep:
-    """:func:`kalman_step` without the shape checks (the filters' per-step kernel: their shapes
-    are fixed at entry). The consistency check of a singular ``S`` stays (it costs nothing
-    unless ``R`` is singular)."""
-    if r_singular is None:
-        r_singular = singular(R)
-    # the covariance update first: with check=True it validates P and R (naming them) before
-    # anything else uses them; it is a pure function of P, C, R, so the order changes no bit
-    P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
-    if P.ndim == 2 and np.ndim(C) == 2 and np.ndim(R) == 2:
-        S = C @ P @ C.T + R
-        K = solve_psd(S, C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
-        if r_singular:  # S may be singular: the innovations must lie in its range
-            _v.consistent("innov", S, innov.T, _scale(x, C, innov))
-        x_post = x + innov @ K.T
-        return KalmanStep(x_post, P_post, x_post @ A.T, A @ P_post @ A.T + Q)
-    PCt = P @ np.swapaxes(C, -1, -2)  # (n, nx, m)
-    S = C @ PCt + R
-    w = solve_psd(S, innov[..., None], singular=r_singular)  # S^{-1} innov
-    if r_singular:
-        _v.consistent("innov", S, innov[..., None], _scale(x, C, innov))
-    x_post = x + (PCt @ w)[..., 0]
-    P_pred = A @ P_post @ A.T + Q
-    return KalmanStep(x_post, P_post, x_post @ A.T, 0.5 * (P_pred + np.swapaxes(P_pred, -1, -2)))
-
-
-def _scale(x, C, innov) -> float:
-    """The magnitude of a step's measurements (the rounding scale of its innovations)."""
-    return float(np.abs(innov).max(initial=0.0) + np.abs(x).max(initial=0.0)
-                 * np.abs(C).max(initial=0.0))
+    return KalmanStep(*_kalman_core.kalman_step(x, P, innov, C, R, A, Q,
+                                              r_singular=r_singular, check=check))
 
 
 def _step_shapes(x, P, innov, C, R, A, Q) -> None:

@@ -54,7 +54,7 @@ from typing import Protocol
 
 import numpy as np
 
-from fusioncenter import _kernels, _ziggurat
+from fusioncenter import _kernels, _transition_kernels, _ziggurat
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
@@ -407,11 +407,11 @@ class LinearGaussianDynamics:
                    else None)
             if zig is not None:  # NumPy's normals drawn inside the pass, in the same order
                 st = _ziggurat.draw_state(rng)
-                _kernels.linear_transition_draw(x, self.A, self._LQ, st, *zig, out)
+                _transition_kernels.linear_transition_draw(x, self.A, self._LQ, st, *zig, out)
                 _ziggurat.set_state(rng, st)
                 return out
             g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
-            _kernels.linear_transition(x, self.A, g, self._LQ, out)
+            _transition_kernels.linear_transition(x, self.A, g, self._LQ, out)
             return out
         out = x @ self.A.T
         if k:

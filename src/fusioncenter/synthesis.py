@@ -47,12 +47,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import censoring, montecarlo, particle
+from fusioncenter import _kalman_core, censoring, montecarlo, particle
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
+from fusioncenter.censoring import _probability_core
 from fusioncenter.fading import Rayleigh
-from fusioncenter.kalman import LinearGaussianModel, _kalman_step
+from fusioncenter.kalman import LinearGaussianModel
 
 __all__ = [
     "KF_SCHEMES",
@@ -354,7 +355,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         use = arrived | silent
         Ck = C * use[:, :, None]  # (n, N, 2): a dropped sensor is a zero row
         Rk = noise[:, :, None] * eye
-        xhat[:, t], Ps[:, t], xpred, Ppred = _kalman_step(  # R_k = diag(noise)
+        xhat[:, t], Ps[:, t], xpred, Ppred = _kalman_core.kalman_step(  # R_k = diag(noise)
             xpred, Ppred, np.where(arrived, nu, 0.0), Ck, Rk, A, Q,
             r_singular=bool(np.any(noise == 0)))
         sent_all[:, t], arr_all[:, t] = sent, arrived
@@ -493,7 +494,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * censoring.probability._log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * _probability_core.log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):

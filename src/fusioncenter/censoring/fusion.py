@@ -10,12 +10,14 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, _ziggurat, particle
+from fusioncenter import _kernels, _transition_kernels, _ziggurat, particle
+from fusioncenter.censoring._probability_core import (
+    log_prob_inside,
+    log_region_probability,
+    log_silent_constant,
+    truncated_normal,
+)
 from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
-from fusioncenter.censoring.probability import _log_prob_inside as log_prob_inside
-from fusioncenter.censoring.probability import _log_region_probability as log_region_probability
-from fusioncenter.censoring.probability import _log_silent_constant as log_silent_constant
-from fusioncenter.censoring.probability import _truncated_normal as truncated_normal
 from fusioncenter.censoring.scenarios import LinearScenario
 from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
 
@@ -288,10 +290,11 @@ class LinearFusionCentre:
     feedback their decisions at step ``t`` depend on what the FC broadcast after step ``t - 1``.
     Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
 
-    * the transition is one compiled pass (:func:`fusioncenter._kernels.propagate_wna_draw`)
-      that draws NumPy's normals itself (SFC64 and NumPy's ziggurat, the same numbers in the
+    * the transition is one compiled pass
+      (:func:`fusioncenter._transition_kernels.propagate_wna_draw`) that draws NumPy's normals
+      itself (SFC64 and NumPy's ziggurat, the same numbers in the
       same order as ``standard_normal``; :mod:`fusioncenter._ziggurat`), or, where NumPy's
-      tables cannot be read, :func:`fusioncenter._kernels.propagate_wna` after
+      tables cannot be read, :func:`fusioncenter._transition_kernels.propagate_wna` after
       ``standard_normal``;
     * the silent factor with state feedback is the interpolation table :func:`silent_table`
       (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
@@ -489,14 +492,14 @@ class LinearFusionCentre:
         zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
         if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
             st = _ziggurat.draw_state(rng)
-            _kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            _transition_kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
             _ziggurat.set_state(rng, st)
             return x
         if self._g.shape != shape:
             self._g = np.empty(shape)
         if shape[2]:
             rng.standard_normal(out=self._g)
-        _kernels.propagate_wna(x, self.dt, self._g, self.LQ)
+        _transition_kernels.propagate_wna(x, self.dt, self._g, self.LQ)
         return x
 
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:

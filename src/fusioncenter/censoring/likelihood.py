@@ -13,9 +13,11 @@ from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 from fusioncenter._validate import received as _received
-from fusioncenter.censoring.probability import _log_region_probability as log_region_probability
-from fusioncenter.censoring.probability import _log_silent_constant as log_silent_constant
-from fusioncenter.censoring.probability import _prob_inside as prob_inside
+from fusioncenter.censoring._probability_core import (
+    log_region_probability,
+    log_silent_constant,
+    prob_inside,
+)
 
 
 # ----------------------------------------------------------------------------- likelihoods

@@ -57,20 +57,16 @@ from fusioncenter import _kernels, montecarlo, particle
 from fusioncenter import _validate as _v
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import fusion, results, scenarios
+from fusioncenter.censoring import _nonlinear_core, _probability_core, fusion, results, scenarios
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.nonlinear_model import (
     NonlinearScenario,
-    _amplitude,
-    _ekf_step,
-    _jacobian,
     amplitude,  # noqa: F401 (re-exported)
     ekf_covariance_step,  # noqa: F401 (re-exported)
     grid_positions,  # noqa: F401 (re-exported)
     jacobian,  # noqa: F401 (re-exported)
     local_ekf,
 )
-from fusioncenter.censoring.nonlinear_model import amplitude_from_d2 as _amp_from_d2
 
 #: The schemes of :func:`run` (as in :mod:`fusioncenter.censoring`).
 SCHEMES = scenarios.SCHEMES
@@ -109,7 +105,7 @@ def log_silent_probability(m, h):
         broadcast.
     """
     m = _v.finite("m", m)
-    h = _v._as_float("h", h)
+    h = _v.as_float("h", h)
     if np.any(np.isnan(h)) or np.any(h < 0):
         raise ValueError(f"h must be a non-negative half-width (a threshold; +inf allowed), "
                          f"got {h!r}")
@@ -119,7 +115,7 @@ def log_silent_probability(m, h):
 def _log_silent(m, h):
     """:func:`log_silent_probability` without checks (the filters' own calls)."""
     m, h = np.broadcast_arrays(np.asarray(m, dtype=float), np.asarray(h, dtype=float))
-    return cprob._log_prob_inside(m, h)
+    return _probability_core.log_prob_inside(m, h)
 
 
 def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
@@ -297,13 +293,13 @@ class _FusionCentre(fusion.ReferenceFC):
         """Decisions at step ``k + 1`` from the broadcast ``xhat_{k|k}`` (and ``Phat_{k|k}``)."""
         sc = self.sc
         xp = self.est @ sc.F.T  # xhat_{k+1|k}, every sensor's prediction
-        g = _jacobian(sc, xp)  # (n, N, 4)
+        g = _nonlinear_core.jacobian(sc, xp)  # (n, N, 4)
         if self.feedback == "state":
-            _, s, self.P_loc = _ekf_step(self.P_loc, g, sc.F, sc.Q, self.r)
+            _, s, self.P_loc = _nonlinear_core.ekf_step(self.P_loc, g, sc.F, sc.Q, self.r)
         else:
             Pp = sc.F @ self.est_cov @ sc.F.T + sc.Q  # (n, 4, 4)
             s = np.einsum("nik,nkl,nil->ni", g, Pp, g) + self.r
-        self.hx_pred = _amplitude(sc, xp[:, [0, 2]])  # (n, N)
+        self.hx_pred = _nonlinear_core.amplitude(sc, xp[:, [0, 2]])  # (n, N)
         nu = self.z[:, k] - self.hx_pred
         self.sent[:, k] = nu * nu >= self.eta * s
         self.s[:, k] = s
@@ -349,7 +345,7 @@ class _FusionCentre(fusion.ReferenceFC):
         dy = x[b, :, 2] - self.pos[i, 1][:, None]
         dy *= dy
         d2 += dy
-        e = _amp_from_d2(self.sc, d2)
+        e = _nonlinear_core.amplitude_from_d2(self.sc, d2)
         e -= self.z[b, k, i][:, None]
         e *= e
         e *= (-0.5 / self.r[i])[:, None]
@@ -375,7 +371,7 @@ class _FusionCentre(fusion.ReferenceFC):
         d2 = np.empty((n, self.N, P))
         for i in range(self.N):
             np.add(dx2[:, ix[i]], dy2[:, iy[i]], out=d2[:, i])
-        return _amp_from_d2(self.sc, d2)
+        return _nonlinear_core.amplitude_from_d2(self.sc, d2)
 
     def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
         self.est = mean

@@ -12,6 +12,7 @@ import numpy as np
 
 from fusioncenter import _validate as _v
 from fusioncenter._validate import posint as _posint
+from fusioncenter.censoring import _nonlinear_core as _core
 from fusioncenter.censoring import scenarios
 
 
@@ -222,7 +223,7 @@ class NonlinearScenario(scenarios.Scenario):
         ``"random"``), then ``T`` transitions, then all measurement noises."""
         x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
-        z = _amplitude(self, x[:, 1:, [0, 2]]) + noise
+        z = _core.amplitude(self, x[:, 1:, [0, 2]]) + noise
         return x, z
 
 
@@ -242,13 +243,7 @@ def amplitude_from_d2(sc: NonlinearScenario, d2):
     numpy.ndarray
         The amplitudes (the array ``d2``).
     """
-    if sc.exponent != 2.0:
-        np.power(d2, sc.exponent / 2, out=d2)
-    if sc.alpha != 1.0:
-        d2 *= sc.alpha
-    d2 += 1.0
-    np.divide(sc.power, d2, out=d2)
-    return np.sqrt(d2, out=d2)
+    return _core.amplitude_from_d2(sc, d2)
 
 
 def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
@@ -271,21 +266,11 @@ def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
     ValueError
         If ``pos`` is text, holds a NaN, or does not end in an axis of length 2.
     """
-    pos = _v._as_float("pos", pos)
+    pos = _v.as_float("pos", pos)
     if np.isnan(pos).any():
         raise ValueError(f"pos must not be NaN (a position; +-inf is a target infinitely far "
                          f"away, amplitude 0), got {pos!r}")
-    return _amplitude(scenario, pos)
-
-
-def _amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
-    """:func:`amplitude` without the NaN check (the filters' own calls)."""
-    pos = np.asarray(pos, dtype=float)
-    if pos.shape[-1:] != (2,):
-        raise ValueError(f"pos must end in an (x, y) axis of length 2, got {pos.shape}")
-    diff = pos[..., None, :] - scenario.positions  # (..., N, 2)
-    d2 = np.einsum("...k,...k->...", diff, diff)
-    return amplitude_from_d2(scenario, d2)
+    return _core.amplitude(scenario, pos)
 
 
 def jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
@@ -312,27 +297,7 @@ def jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
     ValueError
         If ``x`` is not finite or does not end in an axis of length 4.
     """
-    return _jacobian(scenario, _v.finite("x", x))
-
-
-def _jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
-    """:func:`jacobian` without the finiteness check (the filters' own calls)."""
-    x = np.asarray(x, dtype=float)
-    if x.shape[-1:] != (4,):
-        raise ValueError(f"x must end in a state axis of length 4, got {x.shape}")
-    sc = scenario
-    diff = x[..., None, [0, 2]] - sc.positions  # (..., N, 2)
-    d2 = np.einsum("...k,...k->...", diff, diff)
-    h = amplitude_from_d2(sc, d2.copy())
-    coef = -0.5 * sc.alpha * sc.exponent * h**3 / sc.power
-    if sc.exponent != 2.0:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dn = np.where(d2 > 0, d2 ** (sc.exponent / 2 - 1), 0.0)
-        coef = coef * dn
-    g = np.zeros((*diff.shape[:-1], 4))
-    g[..., 0] = coef * diff[..., 0]
-    g[..., 2] = coef * diff[..., 1]
-    return g
+    return _core.jacobian(scenario, _v.finite("x", x))
 
 
 def ekf_covariance_step(P, g, F, Q, r):
@@ -375,23 +340,10 @@ def ekf_covariance_step(P, g, F, Q, r):
     r = _v.nonneg("r", r, "a noise variance")
     _v.broadcast(P=P[..., 0, 0], g=g[..., 0], r=r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        Pp, s, Pu = _ekf_step(P, g, F, Q, r)
+        Pp, s, Pu = _core.ekf_step(P, g, F, Q, r)
     known = s == 0
     if np.any(known):  # no information: w = 0, P_upd = P_pred (symmetrized as the kernel does)
         Pu = np.where(known[..., None, None], 0.5 * (Pp + np.swapaxes(Pp, -1, -2)), Pu)
-    return Pp, s, Pu
-
-
-def _ekf_step(P, g, F, Q, r):
-    """:func:`ekf_covariance_step` without checks (``s > 0``; the filters' own calls)."""
-    Pp = F @ P @ F.T + Q
-    Pg = (Pp @ g[..., None])[..., 0]  # (..., d)
-    s = np.einsum("...k,...k->...", g, Pg) + r
-    w = Pg / s[..., None]
-    A = np.eye(P.shape[-1]) - w[..., :, None] * g[..., None, :]
-    Pu = A @ Pp @ np.swapaxes(A, -1, -2) + np.asarray(r)[..., None, None] * (
-        w[..., :, None] * w[..., None, :])
-    Pu = 0.5 * (Pu + np.swapaxes(Pu, -1, -2))
     return Pp, s, Pu
 
 
@@ -428,9 +380,9 @@ def local_ekf(scenario: NonlinearScenario, z) -> dict[str, np.ndarray]:
     out.update({k: np.empty((n, T, N)) for k in ("s", "nu")})
     for t in range(T):
         xp = xh @ F.T
-        g = _jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
-        Pp, s, P = _ekf_step(P, g, F, Q, r)
-        nu = z[:, t] - _amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
+        g = _core.jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
+        Pp, s, P = _core.ekf_step(P, g, F, Q, r)
+        nu = z[:, t] - _core.amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
         xh = xp + (Pp @ g[..., None])[..., 0] * (nu / s)[..., None]
         out["x_pred"][:, t], out["P_pred"][:, t], out["s"][:, t] = xp, Pp, s
         out["nu"][:, t], out["x_upd"][:, t], out["P_upd"][:, t] = nu, xh, P

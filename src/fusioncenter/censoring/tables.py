@@ -10,8 +10,10 @@ import functools
 import numpy as np
 
 from fusioncenter import _kernels
-from fusioncenter.censoring.probability import _log_region_probability as log_region_probability
-from fusioncenter.censoring.probability import _prob_inside as prob_inside
+from fusioncenter.censoring._probability_core import (
+    log_region_probability,
+    prob_inside,
+)
 
 # ----------------------------------------------------------------------------- tables, the FC model
 #: The tables cover ``|x| < 48`` (beyond, the exact function is evaluated).

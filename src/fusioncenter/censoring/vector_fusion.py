@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, montecarlo, particle
+from fusioncenter import _kernels, _transition_kernels, montecarlo, particle
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import fusion, results
+from fusioncenter.censoring import _probability_core, fusion, results
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.ellipse import (
     LIKELIHOODS,
@@ -117,7 +117,7 @@ def _truncated_std_normal(rng, lo, hi):
     """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
     :func:`fusioncenter.censoring.probability.truncated_normal` at uniforms drawn from ``rng``."""
     u = rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi)))
-    return cprob._truncated_normal(u, lo, hi)
+    return _probability_core.truncated_normal(u, lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):
@@ -459,7 +459,7 @@ class _FusedVector:
             self._local_update(rng, t - 2, x[..., 0], x[..., 1], self._local_views(x))
         kq = self.LQ.shape[1]
         g = rng.standard_normal((*x.shape[:2], kq)) if kq else np.empty((*x.shape[:2], 0))
-        _kernels.propagate_wna(x, self.dt, g, self.LQ)
+        _transition_kernels.propagate_wna(x, self.dt, g, self.LQ)
         return x
 
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
