@@ -529,17 +529,3 @@ def test_compute_imports_only_the_module_of_its_entry():
                            text=True)
         assert p.returncode == 0, p.stderr
         assert set(eval(p.stdout)) == {part}, p.stdout  # noqa: S307 (our own list)
-
-
-def test_readme_documents_every_exit_code_and_the_cache():
-    from pathlib import Path
-
-    from fusioncenter import cli
-
-    text = (Path(__file__).resolve().parent.parent / "README.md").read_text()
-    rows = {ln.split("|")[1].strip() for ln in text.splitlines()
-            if ln.startswith("| ") and ln.split("|")[1].strip()[:1].isdigit()}
-    codes = {cli.EXIT_OK, cli.EXIT_CLAIM, cli.EXIT_USAGE, cli.EXIT_RUNTIME, cli.EXIT_INTERNAL}
-    assert {str(c) for c in codes} | {"130 / 143"} <= rows
-    assert (cli.EXIT_INTERRUPTED, cli.EXIT_TERMINATED) == (130, 143)
-    assert "FUSIONCENTER_COMPUTE_CACHE" in text and "`--csv -`" in text

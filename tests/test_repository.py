@@ -149,3 +149,17 @@ def test_every_tool_imports(tool):
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                        timeout=120)
     assert p.returncode == 0, p.stderr[-2000:]
+
+
+def test_readme_documents_every_exit_code_and_the_cache():
+    """The README's exit-code table lists every code the command line uses (here, not in
+    test_cli_claims.py: the 3.12 stage runs the library's tests outside the repository)."""
+    from fusioncenter import cli
+
+    text = (ROOT / "README.md").read_text()
+    rows = {ln.split("|")[1].strip() for ln in text.splitlines()
+            if ln.startswith("| ") and ln.split("|")[1].strip()[:1].isdigit()}
+    codes = {cli.EXIT_OK, cli.EXIT_CLAIM, cli.EXIT_USAGE, cli.EXIT_RUNTIME, cli.EXIT_INTERNAL}
+    assert {str(c) for c in codes} | {"130 / 143"} <= rows
+    assert (cli.EXIT_INTERRUPTED, cli.EXIT_TERMINATED) == (130, 143)
+    assert "FUSIONCENTER_COMPUTE_CACHE" in text and "`--csv -`" in text
