@@ -30,7 +30,7 @@ import numpy as np
 __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "power_table", "received_terms", "sensor_terms", "sum_sensors",
            "systematic_ancestors", "table_shifted", "take_rows", "weighted_moments",
-           "resample_rows", "gauss_terms", "table_shifted_add"]
+           "resample_rows", "gauss_terms", "table_shifted_add", "gauss_table_add"]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -394,6 +394,62 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
                 out[b, i] = out[b, i] + val[i] * c
     return n_far
 
+
+
+@numba.njit(cache=True, nogil=True)
+def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef, add):
+    """:func:`gauss_terms` (``zbar``, ``gcoef``, ``add``) then :func:`table_shifted_add`, row by
+    row in one call: per element the same operations in the same order as the two kernels one
+    after the other (so the same floats), with a row's values still in the cache for the second
+    part. Returns the number of far rows (their ``out`` holds the Gaussian terms only)."""
+    m, P = y.shape
+    deg = coef.shape[1]
+    val = np.empty(P)
+    n_far = 0
+    for b in range(m):
+        zb = zbar[b]
+        c = gcoef[b]
+        if add:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = out[b, i] + e * c
+        else:
+            for i in range(P):
+                e = y[b, i] - zb
+                e = e * e
+                out[b, i] = e * c
+        nsb = ns[b]
+        if nsb == 0:
+            for i in range(P):
+                out[b, i] = out[b, i] + 0.0
+            continue
+        sh = shift[b]
+        far = False
+        for i in range(P):  # the loop of table_shifted_add
+            t = abs(y[b, i] - sh) * scale
+            inside = t < n_int
+            if not inside:
+                t = 0.0
+            j = int(t)
+            t -= j
+            acc = coef[j, 0] * t + coef[j, 1]
+            for q in range(2, deg):
+                acc = acc * t + coef[j, q]
+            far = far or not inside or acc != acc
+            val[i] = acc
+        if far:
+            far_rows[n_far] = b
+            n_far += 1
+            continue
+        if nsb == 1:
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i]
+        else:
+            cn = np.float64(nsb)
+            for i in range(P):
+                out[b, i] = out[b, i] + val[i] * cn
+    return n_far
 
 # ----------------------------------------------------------------------------- nonlinear model
 @numba.njit(cache=True, nogil=True)

@@ -387,22 +387,31 @@ class LinearFusionCentre:
             ys[int(g[0])] = y
             sg = sent[:, g]
             n_obs = sg.sum(axis=1)
+            gauss = None
             if n_obs.any():
                 # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
                 # a constant per trial (centred: no cancellation however large the positions)
                 zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
                 # (y - zbar)^2 (-n / (2 r)), written or added in one compiled pass
-                _kernels.gauss_terms(y, zbar, -0.5 / rg * n_obs, lw, started)
-                started = True
+                gauss = (zbar, -0.5 / rg * n_obs, started)
             silent = silent_rows(self, g, n_obs)
+            # most trials have a silent sensor: evaluate every row (no fancy indexing) and
+            # zero the others, unless few rows need it
+            every = silent is not None and 2 * silent[1].size >= silent[0].size
+            fused = every and self.feedback != "state+cov" and gauss is not None
+            if gauss is not None and not fused:
+                _kernels.gauss_terms(y, gauss[0], gauss[1], lw, gauss[2])
+                started = True
             if silent is None:
                 continue
             n_sil, rows = silent
             sd = math.sqrt(rg)
             hp = self.pred_mean @ hg
-            # most trials have a silent sensor: evaluate every row (no fancy indexing) and
-            # zero the others, unless few rows need it
-            every = 2 * rows.size >= n_sil.size
+            if fused:  # one compiled call: the Gaussian terms, the table, the product, the sum
+                silent_table(math.sqrt(self.eta * s[g[0]]) / sd).shifted_add(
+                    y, hp, 1.0 / sd, n_sil, lw, tmp, gauss)
+                started = True
+                continue
             if self.feedback == "state+cov":  # h differs per trial
                 mu = np.subtract(y, hp[:, None], out=tmp) if every else y[rows] - hp[rows, None]
                 mu *= 1.0 / sd

@@ -80,15 +80,22 @@ class LogTable:
         return out
 
     def shifted_add(self, y: np.ndarray, shift: np.ndarray, scale: float, ns: np.ndarray,
-                    out: np.ndarray, work: np.ndarray) -> None:
+                    out: np.ndarray, work: np.ndarray, gauss: tuple | None = None) -> None:
         """``out += where(ns == 0, 0, f((y - shift[:, None]) * scale) * ns[:, None])`` for an
         even table (no product where ``ns = 1``), in one compiled pass per row
         (:func:`fusioncenter._kernels.table_shifted_add`); the rows with a point beyond the
         table go through :meth:`shifted` (``work`` as scratch, the shape of ``y``), so every
-        value is the arithmetic of :meth:`shifted` followed by the product and the sum."""
+        value is the arithmetic of :meth:`shifted` followed by the product and the sum.
+        ``gauss = (zbar, coef, add)``: first, in the same call, the received sensors' terms of
+        :func:`fusioncenter._kernels.gauss_terms` (written to ``out`` or added to it), row by
+        row (:func:`fusioncenter._kernels.gauss_table_add`; the same floats as the two calls)."""
         rows = np.empty(y.shape[0], dtype=np.intp)
-        k = _kernels.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
-                                       out, rows)
+        if gauss is None:
+            k = _kernels.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step,
+                                           ns, out, rows)
+        else:
+            k = _kernels.gauss_table_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
+                                         out, rows, *gauss)
         if k:
             rows = rows[:k]
             val = self.shifted(y[rows], shift[rows], scale, work[:k])
