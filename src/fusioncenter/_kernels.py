@@ -350,6 +350,32 @@ def table_shifted(coef, n_int, y, shift, scale, out):
 
 
 @numba.njit(cache=True, nogil=True)
+def _table_row(cf, deg, n_int, y, b, sh, scale, val):
+    """``val[i]`` = the even table (coefficients ``cf``, flattened rows of ``deg``) at ``|y[b, i]
+    - sh| * scale``, for every ``i`` (no early exit; a far row's values are dropped); true if
+    a point is beyond the table or on an interval with a non-finite node. ``floor(t)`` equals
+    ``int(t)`` for ``0 <= t < n_int`` (so the arithmetic is :func:`table_shifted`'s), and the
+    unsigned index spares the negative-index wraparound of every coefficient load."""
+    far = False
+    udeg = np.uint64(deg)
+    for i in range(y.shape[1]):
+        t = abs(y[b, i] - sh) * scale
+        inside = t < n_int
+        if not inside:
+            t = 0.0
+        fj = np.floor(t)
+        t -= fj
+        k = np.uint64(fj) * udeg
+        acc = cf[k] * t + cf[k + np.uint64(1)]
+        for q in range(2, deg):
+            acc = acc * t + cf[k + np.uint64(q)]
+        val[i] = acc
+        if not inside or acc != acc:
+            far = True
+    return far
+
+
+@numba.njit(cache=True, nogil=True)
 def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
     """``out[b, i] += ns[b] f(|y[b, i] - shift[b]| * scale)`` (``f`` the table of
     :func:`table_shifted`, ``+ 0.0`` where ``ns[b] = 0``, no product where ``ns[b] = 1``),
@@ -359,6 +385,7 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
     stored in ``far_rows``; returns how many such rows (the caller evaluates them exactly)."""
     m, P = y.shape
     deg = coef.shape[1]
+    cf = coef.ravel()  # C-contiguous: a view
     val = np.empty(P)
     n_far = 0
     for b in range(m):
@@ -367,21 +394,7 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
             for i in range(P):
                 out[b, i] = out[b, i] + 0.0
             continue
-        sh = shift[b]
-        far = False
-        for i in range(P):  # no early exit (vectorizable); a far row's values are dropped
-            t = abs(y[b, i] - sh) * scale
-            inside = t < n_int
-            if not inside:
-                t = 0.0
-            j = int(t)
-            t -= j
-            acc = coef[j, 0] * t + coef[j, 1]
-            for q in range(2, deg):
-                acc = acc * t + coef[j, q]
-            far = far or not inside or acc != acc
-            val[i] = acc
-        if far:
+        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val):
             far_rows[n_far] = b
             n_far += 1
             continue
@@ -404,6 +417,7 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
     part. Returns the number of far rows (their ``out`` holds the Gaussian terms only)."""
     m, P = y.shape
     deg = coef.shape[1]
+    cf = coef.ravel()  # C-contiguous: a view
     val = np.empty(P)
     n_far = 0
     for b in range(m):
@@ -424,21 +438,7 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
             for i in range(P):
                 out[b, i] = out[b, i] + 0.0
             continue
-        sh = shift[b]
-        far = False
-        for i in range(P):  # the loop of table_shifted_add
-            t = abs(y[b, i] - sh) * scale
-            inside = t < n_int
-            if not inside:
-                t = 0.0
-            j = int(t)
-            t -= j
-            acc = coef[j, 0] * t + coef[j, 1]
-            for q in range(2, deg):
-                acc = acc * t + coef[j, q]
-            far = far or not inside or acc != acc
-            val[i] = acc
-        if far:
+        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val):
             far_rows[n_far] = b
             n_far += 1
             continue
