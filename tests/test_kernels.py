@@ -309,6 +309,36 @@ def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
     assert rows[:k].tolist() == [2, 5]
 
 
+
+@pytest.mark.parametrize("add", [False, True])
+def test_gauss_and_table_in_one_call_is_bitwise_the_two_kernels(add):
+    """``shifted_add(..., gauss=...)`` (one compiled call: the received sensors' terms, then the
+    silent factor, row by row) against ``gauss_terms`` followed by ``shifted_add``; strided
+    rows, rows with no silent sensor, several silent sensors, far points (exact path)."""
+    from fusioncenter.censoring.tables import silent_table
+
+    rng = np.random.default_rng(14)
+    m, P = 8, 400
+    table = silent_table(0.7)
+    y = particle.by_component(3.0 * rng.standard_normal((m, P, 2)))[..., 0]
+    y[3, 7] = 90.0  # beyond the table: the row goes through the exact path
+    hp = rng.standard_normal(m)
+    ns = np.array([1, 0, 2, 1, 3, 0, 1, 2])
+    zbar = rng.standard_normal(m)
+    coef = -0.5 / 1.3 * np.array([1, 2, 0, 1, 0, 2, 1, 0])
+    base = rng.standard_normal((m, P))
+    want = base.copy()
+    _kernels.gauss_terms(y, zbar, coef, want, add)
+    table.shifted_add(y, hp, 1.1, ns, want, np.empty((m, P)))
+    got = base.copy()
+    table.shifted_add(y, hp, 1.1, ns, got, np.empty((m, P)), (zbar, coef, add))
+    assert np.array_equal(got, want)
+    rows = np.empty(m, dtype=np.intp)
+    k = _kernels.gauss_table_add(table.coef, table.n_int, y, hp, 1.1 / table.step, ns,
+                                 base.copy(), rows, zbar, coef, add)
+    assert rows[:k].tolist() == [3]
+
+
 def _inline_tables():
     import platform
     import sys
