@@ -349,6 +349,20 @@ def table_shifted(coef, n_int, y, shift, scale, out):
     return n_far
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _add_silent(out, b, val, nsb):
+    """Row ``b`` of ``out`` plus ``nsb`` times the silent factor ``val`` (one silent sensor:
+    a plain sum, so the floats are those of adding ``val`` once)."""
+    P = out.shape[1]
+    if nsb == 1:
+        for i in range(P):
+            out[b, i] = out[b, i] + val[i]
+    else:
+        c = np.float64(nsb)
+        for i in range(P):
+            out[b, i] = out[b, i] + val[i] * c
+
+
 @numba.njit(cache=True, nogil=True)
 def _table_row(cf, deg, n_int, y, b, sh, scale, val):
     """``val[i]`` = the even table (coefficients ``cf``, flattened rows of ``deg``) at ``|y[b, i]
@@ -398,13 +412,7 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
             far_rows[n_far] = b
             n_far += 1
             continue
-        if nsb == 1:
-            for i in range(P):
-                out[b, i] = out[b, i] + val[i]
-        else:
-            c = np.float64(nsb)
-            for i in range(P):
-                out[b, i] = out[b, i] + val[i] * c
+        _add_silent(out, b, val, nsb)
     return n_far
 
 
@@ -442,13 +450,7 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
             far_rows[n_far] = b
             n_far += 1
             continue
-        if nsb == 1:
-            for i in range(P):
-                out[b, i] = out[b, i] + val[i]
-        else:
-            cn = np.float64(nsb)
-            for i in range(P):
-                out[b, i] = out[b, i] + val[i] * cn
+        _add_silent(out, b, val, nsb)
     return n_far
 
 # ----------------------------------------------------------------------------- nonlinear model
