@@ -32,6 +32,9 @@ __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "systematic_ancestors", "table_shifted", "take_rows", "weighted_moments",
            "resample_rows", "gauss_terms", "table_shifted_add", "gauss_table_add"]
 
+#: Unsigned offsets of a cubic table's coefficients (:func:`_table_row`).
+_U1, _U2, _U3, _U4 = np.uint64(1), np.uint64(2), np.uint64(3), np.uint64(4)
+
 
 @numba.njit(cache=True, nogil=True)
 def _moments_row2(w, x, b, S, mean, ess):
@@ -364,29 +367,50 @@ def _add_silent(out, b, val, nsb):
 
 
 @numba.njit(cache=True, nogil=True)
-def _table_row(cf, deg, n_int, y, b, sh, scale, val):
+def _table_row(cf, deg, n_int, y, b, sh, scale, val, kk):
     """``val[i]`` = the even table (coefficients ``cf``, flattened rows of ``deg``) at ``|y[b, i]
-    - sh| * scale``, for every ``i`` (no early exit; a far row's values are dropped); true if
-    a point is beyond the table or on an interval with a non-finite node. ``floor(t)`` equals
-    ``int(t)`` for ``0 <= t < n_int`` (so the arithmetic is :func:`table_shifted`'s), and the
-    unsigned index spares the negative-index wraparound of every coefficient load."""
-    far = False
-    udeg = np.uint64(deg)
-    for i in range(y.shape[1]):
+    - sh| * scale``, for every ``i``; true if a point is beyond the table (then the row's values
+    are not computed: the caller drops them) or on an interval with a non-finite node.
+
+    Two passes over the row (``kk``: scratch of ``P`` unsigned integers): the first, without
+    a memory access that depends on the data, is vectorized by the compiler (``|y - sh| *
+    scale``, its interval ``floor`` and the offset in it); the second gathers each interval's
+    coefficients and runs Horner's scheme. The arithmetic and its order are :func:`table_shifted`'s
+    (``floor(t)`` equals ``int(t)`` for ``0 <= t < n_int``), so are the floats; the unsigned
+    index spares the negative-index wraparound of every coefficient load."""
+    P = y.shape[1]
+    outside = 0
+    for i in range(P):
         t = abs(y[b, i] - sh) * scale
         inside = t < n_int
-        if not inside:
-            t = 0.0
+        t = t if inside else 0.0
         fj = np.floor(t)
-        t -= fj
-        k = np.uint64(fj) * udeg
-        acc = cf[k] * t + cf[k + np.uint64(1)]
-        for q in range(2, deg):
-            acc = acc * t + cf[k + np.uint64(q)]
-        val[i] = acc
-        if not inside or acc != acc:
-            far = True
-    return far
+        val[i] = t - fj
+        kk[i] = np.uint64(fj)
+        outside |= np.int64(not inside)
+    if outside:
+        return True
+    bad = 0
+    udeg = np.uint64(deg)
+    if deg == 4:  # the cubic tables, written out
+        for i in range(P):
+            t = val[i]
+            k = kk[i] * _U4
+            acc = cf[k] * t + cf[k + _U1]
+            acc = acc * t + cf[k + _U2]
+            acc = acc * t + cf[k + _U3]
+            val[i] = acc
+            bad |= np.int64(acc != acc)
+    else:
+        for i in range(P):
+            t = val[i]
+            k = kk[i] * udeg
+            acc = cf[k] * t + cf[k + _U1]
+            for q in range(2, deg):
+                acc = acc * t + cf[k + np.uint64(q)]
+            val[i] = acc
+            bad |= np.int64(acc != acc)
+    return bad != 0
 
 
 @numba.njit(cache=True, nogil=True)
@@ -401,6 +425,7 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
     deg = coef.shape[1]
     cf = coef.ravel()  # C-contiguous: a view
     val = np.empty(P)
+    kk = np.empty(P, dtype=np.uint64)
     n_far = 0
     for b in range(m):
         nsb = ns[b]
@@ -408,7 +433,7 @@ def table_shifted_add(coef, n_int, y, shift, scale, ns, out, far_rows):
             for i in range(P):
                 out[b, i] = out[b, i] + 0.0
             continue
-        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val):
+        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val, kk):
             far_rows[n_far] = b
             n_far += 1
             continue
@@ -427,6 +452,7 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
     deg = coef.shape[1]
     cf = coef.ravel()  # C-contiguous: a view
     val = np.empty(P)
+    kk = np.empty(P, dtype=np.uint64)
     n_far = 0
     for b in range(m):
         zb = zbar[b]
@@ -446,7 +472,7 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
             for i in range(P):
                 out[b, i] = out[b, i] + 0.0
             continue
-        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val):
+        if _table_row(cf, deg, n_int, y, b, shift[b], scale, val, kk):
             far_rows[n_far] = b
             n_far += 1
             continue
