@@ -1,5 +1,6 @@
 """tools/build_book.py's execution worker (``--serve``): one process executes several chapters
-one after another, each in a new kernel, and answers one result line per chapter."""
+one after another, each in a new kernel (forked from the lane's warm process,
+tools/kernel_fork.py), and answers one result line per chapter."""
 
 from __future__ import annotations
 
@@ -31,16 +32,20 @@ def _chapter(path: Path, code: str) -> Path:
 
 
 def test_one_worker_executes_chapters_in_turn_in_new_kernels(tmp_path):
-    ok = _chapter(tmp_path / "ok.md", "import os\nx = 6 * 7\nprint('pid', os.getpid(), x)")
+    ok = _chapter(tmp_path / "ok.md",
+                  "import os\nx = 6 * 7\nprint('pid', os.getpid(), x, os.getppid())")
     bad = _chapter(tmp_path / "bad.md", "raise ValueError('chapter fails')")
-    again = _chapter(tmp_path / "again.md", "import os\nprint('pid', os.getpid(), 'x' in dir())")
+    again = _chapter(tmp_path / "again.md",
+                     "import os\nprint('pid', os.getpid(), 'x' in dir(), os.getppid())")
     requests = "".join(json.dumps({"src": str(src), "dest": str(tmp_path / f"{src.stem}.ipynb")})
                        + "\n" for src in (ok, bad, again))
-    out = subprocess.run([sys.executable, str(ROOT / "tools" / "build_book.py"), "--serve"],
-                         input=requests, capture_output=True, text=True, timeout=300,
-                         cwd=tmp_path)
-    assert out.returncode == 0, out.stderr[-2000:]
-    results = [json.loads(line[len(build_book.RESULT):]) for line in out.stdout.splitlines()
+    proc = subprocess.Popen([sys.executable, str(ROOT / "tools" / "build_book.py"), "--serve"],
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    stdout, stderr = proc.communicate(requests, timeout=300)
+    assert proc.returncode == 0, stderr[-2000:]
+    assert "no forked kernels" not in stderr
+    results = [json.loads(line[len(build_book.RESULT):]) for line in stdout.splitlines()
                if line.startswith(build_book.RESULT)]
     assert [r["error"] for r in results] == [None, "CellExecutionError", None]
     assert "chapter fails" in results[1]["traceback"]
@@ -56,6 +61,9 @@ def test_one_worker_executes_chapters_in_turn_in_new_kernels(tmp_path):
     assert first[2] == "42"
     assert third[2] == "False"  # a new kernel: nothing of the first chapter is left
     assert first[1] != third[1]  # ... in another process
+    # both forked from the lane's one warm process (a kernel started as a new process is a
+    # child of the lane itself, through jupyter_client)
+    assert first[3] == third[3] != str(proc.pid)
 
 
 def test_a_kernel_that_died_at_start_is_retried_and_a_chapter_error_is_not(tmp_path, monkeypatch):

@@ -9,7 +9,8 @@ Two stages:
 1. **execution**: every notebook chapter not yet in the execution cache (jupyter-cache, in
    ``<out>/_build/.jupyter_cache``, where jupyter-book looks) is executed, ``--jobs`` at a time
    (default: one per core), each in its own kernel, longest first (one worker process per
-   lane runs its chapters one after another: :func:`serve`); the executed
+   lane runs its chapters one after another: :func:`serve`; its kernels are forked from a
+   process that has imported the chapters' libraries once, tools/kernel_fork.py); the executed
    notebooks are stored in the cache exactly as myst-nb stores them (same reader, same hash of
    the code cells), so that:
 2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
@@ -43,6 +44,7 @@ stops every child (kernels included), says which stage was interrupted and exits
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime as dt
 import hashlib
 import json
@@ -154,16 +156,19 @@ def _kernel_never_started(res, nb) -> bool:
             and not any(c.get("execution_count") for c in nb.cells if c.cell_type == "code"))
 
 
-def execute_one(src: Path, dest: Path) -> dict:
+def execute_one(src: Path, dest: Path, kernel_name: str | None = None) -> dict:
     """Execute ``src`` as myst-nb would (in its folder, in a new kernel) into ``dest``; returns
-    ``{"seconds", "error", "traceback"}`` (``error`` the exception's name, or ``None``)."""
+    ``{"seconds", "error", "traceback"}`` (``error`` the exception's name, or ``None``).
+    ``kernel_name``: the kernelspec to run it with (:func:`serve`: the forked kernels of
+    tools/kernel_fork.py); nbclient leaves the notebook's kernelspec metadata as it was."""
     import nbformat
     from jupyter_cache.executors.utils import single_nb_execution
 
+    extra = {"kernel_name": kernel_name} if kernel_name else {}
     for attempt in range(1 + KERNEL_START_RETRIES):
         nb = _read(src)
         res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
-                                  meta_override=True)
+                                  meta_override=True, **extra)
         if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
             break
         print(f"build_book: {src.name}: the kernel died before it answered ({res.err}); "
@@ -177,13 +182,34 @@ def serve() -> int:
     """Child process of one execution lane: for each line ``{"src", "dest"}`` read from standard
     input, execute that chapter (:func:`execute_one`, a new kernel each time) and print one line
     :data:`RESULT` + JSON. One such process runs a lane's chapters one after another, so that
-    myst-nb and jupyter-cache are imported once per lane (about 3 s each time), not per chapter."""
+    myst-nb and jupyter-cache are imported once per lane (about 3 s each time), not per chapter.
+
+    Each kernel is forked from a warm process of the lane that has imported the chapters'
+    libraries once (tools/kernel_fork.py, as nbval's kernels in ``make test``): a new kernel
+    process spends 2 to 6 s of CPU on those imports, 29 times per build. A kernel whose
+    environment differs from the warm process's starts as a new process (kernel_fork's
+    fallback), and so does every kernel if the warm process cannot start."""
+    import kernel_fork
+
+    with contextlib.ExitStack() as stack:
+        kernel_name = None
+        try:
+            tmp = Path(stack.enter_context(tempfile.TemporaryDirectory()))
+            stack.enter_context(kernel_fork.warm_kernels(tmp))
+            kernel_name = kernel_fork.KERNEL_NAME
+        except RuntimeError as exc:
+            print(f"build_book: no forked kernels ({exc}); each chapter starts a new process",
+                  file=sys.stderr, flush=True)
+        return _serve_lines(kernel_name)
+
+
+def _serve_lines(kernel_name: str | None) -> int:
     for line in sys.stdin:
         if not line.strip():
             continue
         req = json.loads(line)
         try:
-            info = execute_one(Path(req["src"]), Path(req["dest"]))
+            info = execute_one(Path(req["src"]), Path(req["dest"]), kernel_name)
         except Exception as exc:  # noqa: BLE001 (reported to the parent as the chapter's error)
             import traceback
 
