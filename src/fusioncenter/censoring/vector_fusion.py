@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, _transition_kernels, montecarlo, particle
+from fusioncenter import _kernels, _transition_kernels, _ziggurat, montecarlo, particle
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _probability_core, fusion, results
@@ -458,6 +458,12 @@ class _FusedVector:
         if self.exact and t > 1:
             self._local_update(rng, t - 2, x[..., 0], x[..., 1], self._local_views(x))
         kq = self.LQ.shape[1]
+        zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
+        if kq and zig is not None:  # NumPy's normals drawn inside the pass, in the same order
+            st = _ziggurat.draw_state(rng)
+            _transition_kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            _ziggurat.set_state(rng, st)
+            return x
         g = rng.standard_normal((*x.shape[:2], kq)) if kq else np.empty((*x.shape[:2], 0))
         _transition_kernels.propagate_wna(x, self.dt, g, self.LQ)
         return x
