@@ -356,6 +356,33 @@ def _inline_tables():
 
 
 @pytest.mark.parametrize("seed", [0, 2014])
+def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
+    """The same for NumPy's default generator, PCG64 (128-bit state and increment): the
+    kernels' draws are ``standard_normal``'s numbers and leave its state where NumPy does."""
+    from fusioncenter import _ziggurat
+
+    _inline_tables()
+    zig = _ziggurat.pcg64_tables()
+    assert zig is not None
+    rng = np.random.default_rng(seed)
+    rng.random(3)  # anywhere in the stream
+    s = _ziggurat.draw_state(rng)
+    n = 400_000
+    got = np.empty(n)
+    _transition_kernels.pcg64_normals(s, *zig, got)
+    want = rng.standard_normal(n)
+    assert np.array_equal(got, want)
+    assert np.array_equal(s, _ziggurat.draw_state(rng))
+    assert np.sum(np.abs(want) > zig[3]) > 20  # the tail was drawn
+    mine = np.random.default_rng(seed)
+    mine.random(3)
+    s = _ziggurat.draw_state(mine)
+    _transition_kernels.pcg64_normals(s, *zig, got)
+    _ziggurat.set_state(mine, s)  # the state goes back into the generator
+    assert np.array_equal(mine.random(5), rng.random(5))
+
+
+@pytest.mark.parametrize("seed", [0, 2014])
 def test_inline_normals_are_numpys_bit_for_bit(seed):
     """The kernels' SFC64 + ziggurat draws are ``standard_normal``'s numbers, and leave the
     stream where NumPy leaves it; the draws include the tail and the wedges."""
@@ -419,5 +446,32 @@ def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch
             monkeypatch.setattr(_ziggurat, "tables", lambda: None)
         rng = np.random.Generator(np.random.SFC64(9))
         outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
+    for a, b in zip(*outs, strict=True):
+        assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize(("d", "k"), [(2, 1), (4, 2), (3, 3)])
+def test_linear_gaussian_transition_pcg64_inline_draws_change_no_bit(d, k, monkeypatch):
+    """The same on NumPy's default generator (PCG64, ``linear_transition_draw_pcg64``): the
+    values and the stream position of ``standard_normal`` then ``linear_transition``."""
+    from fusioncenter import _ziggurat
+
+    _inline_tables()
+    rng0 = np.random.default_rng(d + k)
+    A = rng0.standard_normal((d, d))
+    B = rng0.standard_normal((d, k))
+    dyn = particle.LinearGaussianDynamics(A, B @ B.T, np.zeros(d), np.eye(d))
+    x = rng0.standard_normal((5, 60, d))
+    drawn = []
+    monkeypatch.setattr(_transition_kernels, "linear_transition_draw_pcg64",
+                        lambda *a, f=_transition_kernels.linear_transition_draw_pcg64:
+                        drawn.append(1) or f(*a))
+    outs = []
+    for inline in (True, False):
+        if not inline:
+            monkeypatch.setattr(_ziggurat, "pcg64_tables", lambda: None)
+        rng = np.random.default_rng(9)
+        outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
+    assert len(drawn) == 2  # the inline path was taken (twice), then NumPy's
     for a, b in zip(*outs, strict=True):
         assert np.array_equal(a, b)

@@ -24,7 +24,7 @@ from numba import types
 from numba.extending import intrinsic
 
 __all__ = ["propagate_wna", "sfc64_normals", "propagate_wna_draw", "linear_transition",
-           "linear_transition_draw"]
+           "linear_transition_draw", "pcg64_normals", "linear_transition_draw_pcg64"]
 
 @numba.njit(cache=True, nogil=True)
 def propagate_wna(x, dt, g, L):
@@ -230,6 +230,133 @@ def linear_transition_draw(x, F, L, s, ki, wi, fi, r, inv_r, out):
                     if rabs < ki[idx]:
                         break
                     ok, gm = _normal_rare(s, idx, rabs, gm, fi, r, inv_r)
+                    if ok:
+                        break
+                g[m] = gm
+            if d == 4 and k == 2:
+                x0, x1, x2, x3 = x[b, p, 0], x[b, p, 1], x[b, p, 2], x[b, p, 3]
+                g0, g1 = g[0], g[1]
+                out[b, p, 0] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 0)
+                out[b, p, 1] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 1)
+                out[b, p, 2] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 2)
+                out[b, p, 3] = _row_4_2(x0, x1, x2, x3, g0, g1, F, L, 3)
+                continue
+            for j in range(d):
+                acc = x[b, p, 0] * F[j, 0]
+                for q in range(1, d):
+                    acc = _fma(x[b, p, q], F[j, q], acc)
+                if k:
+                    noise = g[0] * L[j, 0]
+                    for q in range(1, k):
+                        noise = _fma(g[q], L[j, q], noise)
+                    acc = acc + noise
+                out[b, p, j] = acc
+
+
+# ----------------------------------------------------------------------------- PCG64
+#: NumPy's PCG64 multiplier (``PCG_DEFAULT_MULTIPLIER_128``), high and low 64 bits.
+_PCG_MHI = np.uint64(0x2360ED051FC65DA4)
+_PCG_MLO = np.uint64(0x4385DF649FCCF645)
+_U58 = np.uint64(58)
+_U63 = np.uint64(63)
+_U64 = np.uint64(64)
+
+
+@intrinsic
+def _umulh(typingctx, a, b):
+    """The high 64 bits of the 128-bit product of two unsigned 64-bit integers."""
+    sig = types.uint64(types.uint64, types.uint64)
+
+    def codegen(context, builder, signature, args):
+        from llvmlite import ir
+
+        i128 = ir.IntType(128)
+        p = builder.mul(builder.zext(args[0], i128), builder.zext(args[1], i128))
+        return builder.trunc(builder.lshr(p, ir.Constant(i128, 64)), ir.IntType(64))
+
+    return sig, codegen
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pcg64_next(s):
+    """The next 64-bit output of NumPy's PCG64 (``pcg_setseq_128_xsl_rr_64``): the 128-bit
+    state ``(s[0], s[1])`` (high, low) times the multiplier plus the increment ``(s[2], s[3])``,
+    then the XOR of its halves rotated right by its top 6 bits."""
+    hi, lo = s[0], s[1]
+    nhi = _umulh(lo, _PCG_MLO) + hi * _PCG_MLO + lo * _PCG_MHI
+    nlo = lo * _PCG_MLO
+    lo2 = nlo + s[3]
+    hi2 = nhi + s[2] + np.uint64(lo2 < nlo)  # the carry, without a branch
+    s[0], s[1] = hi2, lo2
+    v = hi2 ^ lo2
+    rot = hi2 >> _U58
+    return (v >> rot) | (v << ((_U64 - rot) & _U63))
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pcg64_double(s):
+    """A uniform in ``[0, 1)`` from the top 53 bits (NumPy's ``next_double``)."""
+    return np.float64(_pcg64_next(s) >> _U11) * (1.0 / 9007199254740992.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal_rare_pcg64(s, idx, rabs, x, fi, r, inv_r):
+    """:func:`_normal_rare` for a PCG64 state."""
+    if idx == 0:
+        while True:
+            xx = -inv_r * math.log1p(-_pcg64_double(s))
+            yy = -math.log1p(-_pcg64_double(s))
+            if yy + yy > xx * xx:
+                return True, (-(r + xx) if (rabs >> _U8) & _U1 else r + xx)
+    if (fi[idx - 1] - fi[idx]) * _pcg64_double(s) + fi[idx] < math.exp(-0.5 * x * x):
+        return True, x
+    return False, 0.0
+
+
+@numba.njit(cache=True, nogil=True)
+def pcg64_normals(s, ki, wi, fi, r, inv_r, out):
+    """:func:`sfc64_normals` for NumPy's PCG64: ``s (4,) uint64`` is the state's high and low
+    halves, then the increment's (:func:`fusioncenter._ziggurat.draw_state`)."""
+    o = out.reshape(-1)
+    for n in range(o.shape[0]):
+        while True:  # written out: a helper function here costs six times the draw
+            u = _pcg64_next(s)
+            idx = np.intp(u & _M8)
+            u = u >> _U8
+            rabs = (u >> _U1) & _M52
+            x = np.float64(rabs) * wi[idx]
+            if u & _U1:
+                x = -x
+            if rabs < ki[idx]:
+                break
+            ok, x = _normal_rare_pcg64(s, idx, rabs, x, fi, r, inv_r)
+            if ok:
+                break
+        o[n] = x
+
+
+@numba.njit(cache=True, nogil=True)
+def linear_transition_draw_pcg64(x, F, L, s, ki, wi, fi, r, inv_r, out):
+    """:func:`linear_transition_draw` with the normals from a PCG64 state (NumPy's default
+    generator): the same numbers as ``standard_normal`` on that generator, the same
+    arithmetic as :func:`linear_transition`."""
+    n, P, d = x.shape
+    k = L.shape[1]
+    g = np.empty(max(k, 1))
+    for b in range(n):
+        for p in range(P):
+            for m in range(k):
+                while True:
+                    u = _pcg64_next(s)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gm = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gm = -gm
+                    if rabs < ki[idx]:
+                        break
+                    ok, gm = _normal_rare_pcg64(s, idx, rabs, gm, fi, r, inv_r)
                     if ok:
                         break
                 g[m] = gm

@@ -12,7 +12,10 @@ module (its ELF symbol table names them), and accepts them only if the inline dr
 reproduce ``standard_normal`` bit for bit on a check stream that exercises the tail and the
 wedges. Anything else (another platform, a stripped build, another NumPy algorithm, a failed
 check) returns ``None``, and the callers draw through NumPy as before: the results are the
-same either way, only the speed differs.
+same either way, only the speed differs. NumPy's default generator, PCG64, has its own inline
+twin (:func:`pcg64_tables` checks it the same way): the filters of the censoring FCs run on
+SFC64, the library's :class:`fusioncenter.particle.LinearGaussianDynamics` on whichever of the
+two it is given (the nonlinear FC and the chapters' own models use ``default_rng``).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import struct
 
 import numpy as np
 
-__all__ = ["tables", "draw_state", "set_state"]
+__all__ = ["tables", "pcg64_tables", "draw_state", "set_state"]
 
 _NAMES = (b"ki_double", b"wi_double", b"fi_double")
 #: Draws of the acceptance check (about 0.7 % go through a wedge, 0.03 % through the tail).
@@ -58,16 +61,28 @@ def _elf_symbols(path: str) -> dict[bytes, np.ndarray] | None:
     return found if len(found) == 3 else None
 
 
+_MASK64 = (1 << 64) - 1
+
+
 def draw_state(rng: np.random.Generator) -> np.ndarray:
-    """The SFC64 state ``(4,) uint64`` of ``rng`` (for the inline draws)."""
-    return np.array(rng.bit_generator.state["state"]["state"], dtype=np.uint64)
+    """The state ``(4,) uint64`` of ``rng``'s SFC64 or PCG64 bit generator, for the inline
+    draws: SFC64's four words, or PCG64's 128-bit state (high, low) and increment (high,
+    low)."""
+    st = rng.bit_generator.state["state"]
+    if isinstance(rng.bit_generator, np.random.PCG64):
+        return np.array([st["state"] >> 64, st["state"] & _MASK64, st["inc"] >> 64,
+                         st["inc"] & _MASK64], dtype=np.uint64)
+    return np.array(st["state"], dtype=np.uint64)
 
 
 def set_state(rng: np.random.Generator, s: np.ndarray) -> None:
-    """Give ``rng`` the SFC64 state ``s`` after the inline draws (the rest of its state, the
-    buffered 32-bit half, is untouched: the normals do not use it)."""
+    """Give ``rng`` the state ``s`` (:func:`draw_state`'s layout) after the inline draws (the
+    rest of its state, the buffered 32-bit half, is untouched: the normals do not use it)."""
     st = rng.bit_generator.state
-    st["state"]["state"] = s
+    if isinstance(rng.bit_generator, np.random.PCG64):
+        st["state"]["state"] = (int(s[0]) << 64) | int(s[1])
+    else:
+        st["state"]["state"] = s
     rng.bit_generator.state = st
 
 
@@ -98,3 +113,22 @@ def tables():
         if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)):
             return zig
     return None
+
+
+@functools.cache
+def pcg64_tables():
+    """:func:`tables` for NumPy's default bit generator, PCG64: the same tables, accepted only
+    if the inline PCG64 draws (:func:`fusioncenter._transition_kernels.pcg64_normals`) then
+    reproduce ``standard_normal`` bit for bit, and leave the generator's state where NumPy's
+    draws leave it; else ``None``."""
+    zig = tables()
+    if zig is None:
+        return None
+    from fusioncenter import _transition_kernels
+
+    rng = np.random.Generator(np.random.PCG64(20141031))
+    s = draw_state(rng)
+    mine = np.empty(CHECK_DRAWS)
+    _transition_kernels.pcg64_normals(s, *zig, mine)
+    want = rng.standard_normal(CHECK_DRAWS)
+    return zig if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)) else None

@@ -395,7 +395,9 @@ class LinearGaussianDynamics:
         return x
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """``A x + u`` for every particle; ``x (..., d)``."""
+        """``A x + u`` for every particle; ``x (..., d)``. On an SFC64 or PCG64 (NumPy's
+        default) stream the normals are drawn inside the compiled pass, NumPy's numbers bit for
+        bit (:mod:`fusioncenter._ziggurat`)."""
         # stacked matmul: one small BLAS call per trial (a single (n P) x d product would be
         # split over BLAS threads, which is slow for d = 2 on a busy machine)
         k = self._LQ.shape[1]
@@ -403,11 +405,16 @@ class LinearGaussianDynamics:
                 and x.flags.c_contiguous):
             # compiled: the arithmetic of BLAS dgemm (what matmul calls here) in one pass
             out = np.empty_like(x)
-            zig = (_ziggurat.tables() if k and type(rng.bit_generator) is np.random.SFC64
-                   else None)
+            bits = type(rng.bit_generator)
+            draw = {np.random.SFC64: (_ziggurat.tables,
+                                      _transition_kernels.linear_transition_draw),
+                    np.random.PCG64: (_ziggurat.pcg64_tables,
+                                      _transition_kernels.linear_transition_draw_pcg64),
+                    }.get(bits) if k else None
+            zig = draw[0]() if draw else None
             if zig is not None:  # NumPy's normals drawn inside the pass, in the same order
                 st = _ziggurat.draw_state(rng)
-                _transition_kernels.linear_transition_draw(x, self.A, self._LQ, st, *zig, out)
+                draw[1](x, self.A, self._LQ, st, *zig, out)
                 _ziggurat.set_state(rng, st)
                 return out
             g = rng.standard_normal((*x.shape[:-1], k)) if k else np.empty((*x.shape[:2], 0))
