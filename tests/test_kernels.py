@@ -475,3 +475,39 @@ def test_linear_gaussian_transition_pcg64_inline_draws_change_no_bit(d, k, monke
     assert len(drawn) == 2  # the inline path was taken (twice), then NumPy's
     for a, b in zip(*outs, strict=True):
         assert np.array_equal(a, b)
+
+
+def test_vector_local_update_kernels_are_the_numpy_arithmetic():
+    """The exact no-feedback vector filter's local Kalman step (``_kernels.local_innovations``,
+    ``silent_offsets``, ``local_update``) against the NumPy code it replaced, bit for bit,
+    with some silent rows and innovations of both signs and zeros."""
+    rng = np.random.default_rng(31)
+    n, P, m = 7, 50, 2
+    pos, vel, h0, h1 = (rng.standard_normal((n, P)) * 3 for _ in range(4))
+    h0[0, :5] = -0.0
+    z, H, A = rng.standard_normal((n, m)), rng.standard_normal((m, 2)), rng.standard_normal((m, 2))
+    W, F = rng.standard_normal((2, m)), np.array([[1.0, 0.5], [0.0, 1.0]])
+    sil = np.array([1, 4, 5])
+    nus = rng.standard_normal((sil.size * P, m))
+
+    def lin(M, c0, c1):
+        return [M[j, 0] * c0 + M[j, 1] * c1 for j in range(M.shape[0])]
+
+    nu_ref = [z[:, j, None] - hj for j, hj in enumerate(lin(H, h0, h1))]
+    b_ref = np.stack([bj.ravel() for bj in lin(A, pos[sil] - h0[sil], vel[sil] - h1[sil])], 1)
+    for j in range(m):
+        nu_ref[j][sil] = nus[:, j].reshape(sil.size, -1)
+    u0 = h0 + sum(W[0, j] * nu_ref[j] for j in range(m))
+    u1 = h1 + sum(W[1, j] * nu_ref[j] for j in range(m))
+    want0, want1 = F[0, 0] * u0 + F[0, 1] * u1, F[1, 0] * u0 + F[1, 1] * u1
+
+    nu = np.empty((m, n, P))
+    _kernels.local_innovations(z, H, h0, h1, nu)
+    assert np.array_equal(nu[0], z[:, 0, None] - (H[0, 0] * h0 + H[0, 1] * h1))
+    bs = np.empty((sil.size * P, m))
+    _kernels.silent_offsets(A, pos, vel, h0, h1, sil, bs)
+    assert np.array_equal(bs, b_ref)
+    g0, g1 = h0.copy(), h1.copy()
+    _kernels.local_update(W, F, nu, nus, sil, g0, g1)
+    assert np.array_equal(g0.view(np.int64), want0.view(np.int64))
+    assert np.array_equal(g1.view(np.int64), want1.view(np.int64))

@@ -417,23 +417,19 @@ class _FusedVector:
         xr = self.xref
         F = self.sc.F
         a = self.sqeta * self.local["a_scale"][k]
-        for i in range(self.N):
+        nu = np.empty((self.m, *pos.shape))
+        for i in range(self.N):  # compiled passes around the draws (_kernels.local_*)
             h0, h1 = lp[i]
-            nu = [self.z[:, k, i, j, None] - hj for j, hj in enumerate(_lin(self.H[i], h0, h1))]
+            _kernels.local_innovations(self.z[:, k, i], self.H[i], h0, h1, nu)
             sil = np.flatnonzero(~self.sent[:, k, i])
+            nus = np.empty((0, self.m))
             if sil.size:
-                b = _lin(self.local["A"][k, i], pos[sil] - h0[sil], vel[sil] - h1[sil])
-                bs = np.stack([bj.ravel() for bj in b], axis=1)
+                bs = np.empty((sil.size * pos.shape[1], self.m))
+                _kernels.silent_offsets(self.local["A"][k, i], pos, vel, h0, h1, sil, bs)
                 u, left = _sample_in_ellipse(rng, bs, a[i])
                 self.unconverged += left
                 nus = u @ xr.ALinv[k, i].T
-                for j in range(self.m):
-                    nu[j][sil] = nus[:, j].reshape(sil.size, -1)
-            W = self.local["gain"][k, i]  # (2, m)
-            u0 = h0 + sum(W[0, j] * nu[j] for j in range(self.m))
-            u1 = h1 + sum(W[1, j] * nu[j] for j in range(self.m))
-            h0[...] = F[0, 0] * u0 + F[0, 1] * u1
-            h1[...] = F[1, 0] * u0 + F[1, 1] * u1
+            _kernels.local_update(self.local["gain"][k, i], F, nu, nus, sil, h0, h1)
 
     # --- FilterModel (fusioncenter.particle.run_filter on the whole block)
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
