@@ -31,7 +31,7 @@ __all__ = ["amplitudes", "ellipse_reject", "hermite_rows", "hermite_tables",
            "power_table", "received_terms", "sensor_terms", "sum_sensors",
            "systematic_ancestors", "table_shifted", "take_rows", "weighted_moments",
            "resample_rows", "gauss_terms", "table_shifted_add", "gauss_table_add",
-           "local_innovations", "silent_offsets", "local_update"]
+           "local_innovations", "silent_offsets", "local_update", "exact_received"]
 
 #: Unsigned offsets of a cubic table's coefficients (:func:`_table_row`).
 _U1, _U2, _U3, _U4 = np.uint64(1), np.uint64(2), np.uint64(3), np.uint64(4)
@@ -684,3 +684,32 @@ def local_update(W, F, nu, nus, sil, h0, h1):
             u1 = h1[b, p] + s1
             h0[b, p] = F[0, 0] * u0 + F[0, 1] * u1
             h1[b, p] = F[1, 0] * u0 + F[1, 1] * u1
+
+
+@numba.njit(cache=True, nogil=True)
+def exact_received(lz, M, zi, H, Si, eta, p, v, h0, h1, rows, lw, ok):
+    """The received sensor's terms of the exact no-feedback vector filter, for the rows
+    ``rows`` (``r``) of the particles ``(p, v)`` and their local predictions ``(h0, h1)``:
+    ``lw += -0.5 sum_j (lz[j, r] - (M[j, 0] p + M[j, 1] v))^2`` (the whitened Gaussian
+    log-likelihood), and ``ok &= nu^T Si nu >= eta`` with ``nu_j = zi[r, j] - (H[j, 0] h0 +
+    H[j, 1] h1)`` (the sensor would have sent), the sum in Python's order: the NumPy arithmetic
+    of ``censoring.vector_fusion``, in one pass."""
+    m = M.shape[0]
+    P = p.shape[1]
+    nu = np.empty(m)
+    for r in range(rows.shape[0]):
+        b = rows[r]
+        for q in range(P):
+            acc = 0.0
+            for j in range(m):
+                d = lz[j, r] - (M[j, 0] * p[b, q] + M[j, 1] * v[b, q])
+                d = d * d
+                acc = d if j == 0 else acc + d
+            lw[b, q] = lw[b, q] + -0.5 * acc
+            for j in range(m):
+                nu[j] = zi[r, j] - (H[j, 0] * h0[b, q] + H[j, 1] * h1[b, q])
+            nis = 0.0
+            for j in range(m):
+                for jj in range(m):
+                    nis = nis + Si[j, jj] * nu[j] * nu[jj]
+            ok[b, q] = ok[b, q] and nis >= eta

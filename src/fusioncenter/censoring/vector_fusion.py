@@ -379,22 +379,11 @@ class _FusedVector:
             if rows.size:
                 Linv, _ = xr.white[i]
                 zi = self.z[R, k, i][rows]  # (r, m)
-                pr, vr = p[rows], v[rows]
-                acc = None
-                for j, wj in enumerate(_lin(Linv @ self.H[i], pr, vr)):
-                    d = (Linv @ zi.T)[j][:, None] - wj
-                    d *= d
-                    acc = d if acc is None else acc + d
-                lw[rows] += -0.5 * acc
-                nu = [zi[:, j, None] - hj for j, hj in enumerate(_lin(self.H[i], h0[rows],
-                                                                       h1[rows]))]
-                Si = xr.Sinv[k, i]
-                nis = sum(Si[j, jj] * nu[j] * nu[jj] for j in range(self.m)
-                          for jj in range(self.m))
-                good = nis >= self.eta
                 if ok is None:
                     ok = np.ones(lw.shape, dtype=bool)
-                ok[rows] &= good
+                # the whitened Gaussian term and the indicator "would have sent", one pass
+                _kernels.exact_received(Linv @ zi.T, Linv @ self.H[i], zi, self.H[i],
+                                        xr.Sinv[k, i], self.eta, p, v, h0, h1, rows, lw, ok)
             sil = np.flatnonzero(~sent[:, i])
             if sil.size:
                 every = sil.size == sent.shape[0]
