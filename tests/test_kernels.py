@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from fusioncenter import _kernels, _transition_kernels, particle
+from fusioncenter.censoring import _vector_kernels
 
 
 def _numpy_systematic(w, u):
@@ -478,7 +479,7 @@ def test_linear_gaussian_transition_pcg64_inline_draws_change_no_bit(d, k, monke
 
 
 def test_vector_local_update_kernels_are_the_numpy_arithmetic():
-    """The exact no-feedback vector filter's local Kalman step (``_kernels.local_innovations``,
+    """The exact no-feedback vector filter's local Kalman step (``local_innovations``,
     ``silent_offsets``, ``local_update``) against the NumPy code it replaced, bit for bit,
     with some silent rows and innovations of both signs and zeros."""
     rng = np.random.default_rng(31)
@@ -502,19 +503,19 @@ def test_vector_local_update_kernels_are_the_numpy_arithmetic():
     want0, want1 = F[0, 0] * u0 + F[0, 1] * u1, F[1, 0] * u0 + F[1, 1] * u1
 
     nu = np.empty((m, n, P))
-    _kernels.local_innovations(z, H, h0, h1, nu)
+    _vector_kernels.local_innovations(z, H, h0, h1, nu)
     assert np.array_equal(nu[0], z[:, 0, None] - (H[0, 0] * h0 + H[0, 1] * h1))
     bs = np.empty((sil.size * P, m))
-    _kernels.silent_offsets(A, pos, vel, h0, h1, sil, bs)
+    _vector_kernels.silent_offsets(A, pos, vel, h0, h1, sil, bs)
     assert np.array_equal(bs, b_ref)
     g0, g1 = h0.copy(), h1.copy()
-    _kernels.local_update(W, F, nu, nus, sil, g0, g1)
+    _vector_kernels.local_update(W, F, nu, nus, sil, g0, g1)
     assert np.array_equal(g0.view(np.int64), want0.view(np.int64))
     assert np.array_equal(g1.view(np.int64), want1.view(np.int64))
 
 
 def test_exact_received_kernel_is_the_numpy_arithmetic():
-    """``_kernels.exact_received`` (a received sensor's whitened Gaussian term and the
+    """``_vector_kernels.exact_received`` (a received sensor's whitened Gaussian term and the
     indicator that it would have sent, in the exact no-feedback vector filter) against the NumPy
     code it replaced, bit for bit, on a subset of rows, with both outcomes of the indicator."""
     rng = np.random.default_rng(32)
@@ -543,6 +544,30 @@ def test_exact_received_kernel_is_the_numpy_arithmetic():
     ok_want[rows] &= nis >= eta
 
     got, ok = lw0.copy(), np.ones((n, P), dtype=bool)
-    _kernels.exact_received(Linv @ zi.T, Linv @ H, zi, H, Si, eta, p, v, h0, h1, rows, got, ok)
+    _vector_kernels.exact_received(Linv @ zi.T, Linv @ H, zi, H, Si, eta, p, v, h0, h1, rows,
+                                   got, ok)
     assert np.array_equal(got, want)
     assert np.array_equal(ok, ok_want)
+
+
+def test_white_gauss_add_is_the_numpy_arithmetic():
+    """``_vector_kernels.white_gauss_add`` (a group's whitened Gaussian term) against the NumPy
+    code it replaced, bit for bit, rows with and without received sensors."""
+    rng = np.random.default_rng(33)
+    n, P, m = 5, 30, 2
+    p, v = rng.standard_normal((n, P)) * 3, rng.standard_normal((n, P))
+    G, cbar = rng.standard_normal((2, m)), rng.standard_normal((n, m))
+    n_obs = np.array([0, 1, 2, 1, 3])
+    lw0 = rng.standard_normal((n, P))
+    want = lw0.copy()
+    acc = None
+    for j in range(m):
+        wj = G.T[j, 0] * p + G.T[j, 1] * v
+        wj -= cbar[:, j, None]
+        wj *= wj
+        acc = wj if acc is None else acc + wj
+    acc *= (-0.5 * n_obs)[:, None]
+    want += acc
+    got = lw0.copy()
+    _vector_kernels.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs, got)
+    assert np.array_equal(got, want)

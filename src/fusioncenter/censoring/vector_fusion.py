@@ -10,7 +10,7 @@ import numpy as np
 from fusioncenter import _kernels, _transition_kernels, _ziggurat, montecarlo, particle
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _probability_core, fusion, results
+from fusioncenter.censoring import _probability_core, _vector_kernels, fusion, results
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.ellipse import (
     LIKELIHOODS,
@@ -336,13 +336,8 @@ class _FusedVector:
             if n_obs.any():
                 c = np.where(sg[..., None], cw[R, k], 0.0)
                 cbar = c.sum(axis=1) / np.maximum(n_obs, 1)[:, None]
-                acc = None
-                for j, wj in enumerate(_lin(G.T, p, v)):
-                    wj -= cbar[:, j, None]
-                    wj *= wj
-                    acc = wj if acc is None else acc + wj
-                acc *= (-0.5 * n_obs)[:, None]
-                lw += acc
+                _vector_kernels.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs,
+                                         lw)
             if not self.silent_fb:
                 continue
             n_sil = len(g) - n_obs
@@ -382,7 +377,7 @@ class _FusedVector:
                 if ok is None:
                     ok = np.ones(lw.shape, dtype=bool)
                 # the whitened Gaussian term and the indicator "would have sent", one pass
-                _kernels.exact_received(Linv @ zi.T, Linv @ self.H[i], zi, self.H[i],
+                _vector_kernels.exact_received(Linv @ zi.T, Linv @ self.H[i], zi, self.H[i],
                                         xr.Sinv[k, i], self.eta, p, v, h0, h1, rows, lw, ok)
             sil = np.flatnonzero(~sent[:, i])
             if sil.size:
@@ -407,18 +402,18 @@ class _FusedVector:
         F = self.sc.F
         a = self.sqeta * self.local["a_scale"][k]
         nu = np.empty((self.m, *pos.shape))
-        for i in range(self.N):  # compiled passes around the draws (_kernels.local_*)
+        for i in range(self.N):  # compiled passes around the draws (_vector_kernels)
             h0, h1 = lp[i]
-            _kernels.local_innovations(self.z[:, k, i], self.H[i], h0, h1, nu)
+            _vector_kernels.local_innovations(self.z[:, k, i], self.H[i], h0, h1, nu)
             sil = np.flatnonzero(~self.sent[:, k, i])
             nus = np.empty((0, self.m))
             if sil.size:
                 bs = np.empty((sil.size * pos.shape[1], self.m))
-                _kernels.silent_offsets(self.local["A"][k, i], pos, vel, h0, h1, sil, bs)
+                _vector_kernels.silent_offsets(self.local["A"][k, i], pos, vel, h0, h1, sil, bs)
                 u, left = _sample_in_ellipse(rng, bs, a[i])
                 self.unconverged += left
                 nus = u @ xr.ALinv[k, i].T
-            _kernels.local_update(self.local["gain"][k, i], F, nu, nus, sil, h0, h1)
+            _vector_kernels.local_update(self.local["gain"][k, i], F, nu, nus, sil, h0, h1)
 
     # --- FilterModel (fusioncenter.particle.run_filter on the whole block)
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
