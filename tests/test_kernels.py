@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fusioncenter import _kernels, _transition_kernels, particle
-from fusioncenter.censoring import _vector_kernels
+from fusioncenter import _kernels, _transition_kernels, _vector_kernels, particle
 
 
 def _numpy_systematic(w, u):

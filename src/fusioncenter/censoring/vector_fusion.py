@@ -7,10 +7,17 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, _transition_kernels, _ziggurat, montecarlo, particle
+from fusioncenter import (
+    _kernels,
+    _transition_kernels,
+    _vector_kernels,
+    _ziggurat,
+    montecarlo,
+    particle,
+)
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _probability_core, _vector_kernels, fusion, results
+from fusioncenter.censoring import _probability_core, fusion, results
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.ellipse import (
     LIKELIHOODS,
