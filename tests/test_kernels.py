@@ -260,11 +260,16 @@ def test_fused_resampling_is_the_ancestors_then_the_gather(kind, P):
             assert np.array_equal(got, want)
 
 
+@pytest.mark.parametrize("layout", ["component", "interleaved"])
 @pytest.mark.parametrize("add", [False, True])
-def test_gauss_terms_kernel_is_bitwise_numpy(add):
+def test_gauss_terms_kernel_is_bitwise_numpy(add, layout):
+    """Rows of a particle component (contiguous rows, a view typed contiguous in the kernel)
+    and rows with a stride (the kernel reads a copy of each row)."""
     rng = np.random.default_rng(12)
     m, P = 7, 300
-    y = particle.by_component(1e3 * rng.standard_normal((m, P, 2)))[..., 0]  # strided rows
+    x = 1e3 * rng.standard_normal((m, P, 2))
+    y = (particle.by_component(x) if layout == "component" else x)[..., 0]
+    assert not y.flags.c_contiguous
     zbar = rng.standard_normal(m)
     coef = -0.5 / 0.7 * rng.integers(0, 4, m)  # including rows with no sensor received (0)
     base = rng.standard_normal((m, P))

@@ -172,16 +172,17 @@ def gauss_terms(y, zbar, coef, out, add):
     ``censoring.fusion``), written to ``out[b, i]`` or, if ``add``, added to it. One pass."""
     m, P = y.shape
     for b in range(m):
+        yb = np.ascontiguousarray(y[b])  # a view typed contiguous: the loop is vectorized
         zb = zbar[b]
         c = coef[b]
         if add:
             for i in range(P):
-                e = y[b, i] - zb
+                e = yb[i] - zb
                 e = e * e
                 out[b, i] = out[b, i] + e * c
         else:
             for i in range(P):
-                e = y[b, i] - zb
+                e = yb[i] - zb
                 e = e * e
                 out[b, i] = e * c
 
@@ -379,9 +380,10 @@ def _table_row(cf, deg, n_int, y, b, sh, scale, val, kk):
     (``floor(t)`` equals ``int(t)`` for ``0 <= t < n_int``), so are the floats; the unsigned
     index spares the negative-index wraparound of every coefficient load."""
     P = y.shape[1]
-    outside = 0
+    yb = np.ascontiguousarray(y[b])  # a view typed contiguous (a particle component's rows
+    outside = 0                      # are): the first pass is vectorized
     for i in range(P):
-        t = abs(y[b, i] - sh) * scale
+        t = abs(yb[i] - sh) * scale
         inside = t < n_int
         t = t if inside else 0.0
         fj = np.floor(t)
@@ -455,16 +457,17 @@ def gauss_table_add(coef, n_int, y, shift, scale, ns, out, far_rows, zbar, gcoef
     kk = np.empty(P, dtype=np.uint64)
     n_far = 0
     for b in range(m):
+        yb = np.ascontiguousarray(y[b])  # a view typed contiguous: the loop is vectorized
         zb = zbar[b]
         c = gcoef[b]
         if add:
             for i in range(P):
-                e = y[b, i] - zb
+                e = yb[i] - zb
                 e = e * e
                 out[b, i] = out[b, i] + e * c
         else:
             for i in range(P):
-                e = y[b, i] - zb
+                e = yb[i] - zb
                 e = e * e
                 out[b, i] = e * c
         nsb = ns[b]
