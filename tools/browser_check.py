@@ -1,12 +1,15 @@
 """Open every page of the built site in headless Chromium and check that it really renders.
 
     python tools/browser_check.py _build/fast/_build/html [--min-pages 8] [--min-math-pages 3]
-                                                          [--min-images 2]
+                                                          [--min-images 2] [--workers 2]
 
 The site is served from a loopback HTTP server (127.0.0.1, random free port) and every page is
-loaded in one headless Chromium (Debian's ``/usr/bin/chromium`` driven by playwright; playwright's
-own browser downloads are never used). Any request to a host other than 127.0.0.1 is reported
-and fails (Chromium resolves no other host). For each page it checks:
+loaded in headless Chromium (Debian's ``/usr/bin/chromium`` driven by playwright; playwright's
+own browser downloads are never used): ``--workers`` browsers side by side (default
+``$FUSIONCENTER_BROWSER_WORKERS``, else 2), each loading every ``workers``-th page, the others
+than the first in child processes of this script whose findings (and printed pages) are merged
+into one report. Any request to a host other than 127.0.0.1 is reported and fails (Chromium
+resolves no other host). For each page it checks:
 
 * the page is served with HTTP 200 and no sub-resource fails (HTTP >= 400 or a network error);
 * no console message of type "error" and no uncaught JavaScript exception (a missing favicon is
@@ -42,15 +45,18 @@ from __future__ import annotations
 import argparse
 import functools
 import http.server
+import json
 import os
 import re
 import shutil
 import socketserver
+import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import quote, urlsplit
@@ -203,6 +209,31 @@ def _launch(playwright):
         executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, LOOPBACK_ONLY], headless=True)
 
 
+#: Browsers that check the pages side by side: ``FUSIONCENTER_BROWSER_WORKERS``, else 2 (one
+#: per core of the 2-core machine). One Chromium uses about 1.3 cores on this check (218 s of
+#: CPU in 173 s on the fast site, 114 pages printed too), so in ``make test``, where the library
+#: stage shares the cores, a second browser takes up the core the first leaves idle.
+WORKERS_ENV = "FUSIONCENTER_BROWSER_WORKERS"
+
+
+def default_workers() -> int:
+    """:data:`WORKERS_ENV` if set (a positive integer), else 2."""
+    raw = os.environ.get(WORKERS_ENV, "").strip()
+    if not raw:
+        return 2
+    try:
+        n = int(raw)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise ValueError(f"{WORKERS_ENV} must be a positive integer, got {raw!r}")
+    return n
+
+
+class _NoBrowser(Exception):
+    """Chromium could not be started: the message is the problem to report."""
+
+
 def check_site(
     html_dir: str | os.PathLike[str],
     *,
@@ -211,23 +242,33 @@ def check_site(
     min_images: int = 0,
     log: Callable[[str], None] | None = None,
     printer=None,
+    workers: int | None = None,
 ) -> list[str]:
     """Check every page of ``html_dir`` in headless Chromium; return the list of problems.
 
     With ``printer`` (a ``tools/pdf_book.py`` ``Printer``), every page of the book's table of
     contents is also printed once its checks are done, from the same load, and the PDF is
-    written at the end: ``make test`` loads and typesets the site once for both."""
+    written at the end: ``make test`` loads and typesets the site once for both.
+
+    ``workers`` browsers (default :func:`default_workers`) check every ``workers``-th page
+    each, side by side: this process drives the first, a ``--part`` child process of this
+    script each of the others, against the same local server (so the printed links name the
+    same origin); the children's findings and printed pages are merged here, and the report,
+    the checks on the totals and the PDF are the same as with one browser."""
     html_dir = Path(html_dir).resolve()
     say = log or (lambda _msg: None)
     if not (html_dir / "index.html").is_file():
         return [f"{html_dir}: no index.html (build the site first)"]
+    workers = default_workers() if workers is None else workers
+    if workers < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
     pages = list_pages(html_dir)
+    workers = max(1, min(workers, len(pages)))
     FIGURE_STATS.update(figures=0, pages=0, min_panel_px=None, min_font_px=None,
                         narrow_panel_px=None, narrow_font_px=None, narrow_scrolling=0)
 
     try:
-        from playwright.sync_api import Error as PlaywrightError
-        from playwright.sync_api import sync_playwright
+        import playwright.sync_api  # noqa: F401
     except ImportError as exc:
         return [f"playwright is not importable ({exc}); install the Python package `playwright` "
                 f"in the environment and {INSTALL_HINT} (browser check cannot run)"]
@@ -239,136 +280,44 @@ def check_site(
     thread.start()
     base = f"http://{LOCAL_HOST}:{port}/"
 
-    results: list[PageResult] = []
-    layouts: list[LayoutResult] = []
     site_problems: list[str] = []
+    children: list[tuple[int, subprocess.Popen, Path]] = []
+    parts_dir = Path(tempfile.mkdtemp(prefix="browser-check-")) if workers > 1 else None
     try:
-        with sync_playwright() as pw:
-            try:
-                browser = _launch(pw)
-            except (PlaywrightError, FileNotFoundError) as exc:
-                first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
-                return [f"cannot start headless Chromium at {CHROMIUM}: {first}; {INSTALL_HINT} "
-                        "(browser check cannot run)"]
-            context = browser.new_context(service_workers="block", viewport=VIEWPORT)
-            current: dict[str, PageResult | None] = {"page": None}
-            aborted: set[str] = set()
+        for k in range(1, workers):
+            out = parts_dir / str(k)
+            cmd = [sys.executable, str(Path(__file__).resolve()), str(html_dir), "--part",
+                   f"{k}/{workers}", "--base", base, "--part-out", str(out)]
+            if printer is not None:
+                cmd += ["--print-to", str(printer.out)]
+            with (parts_dir / f"{k}.err").open("wb") as err:
+                children.append((k, subprocess.Popen(cmd, stdout=subprocess.DEVNULL,
+                                                     stderr=err), out))
 
-            def on_request(req) -> None:
-                # a listener, not a route: routing every request through Python cost a fifth
-                # of the page loads; the request itself fails in Chromium's resolver
-                url = req.url
-                parts = urlsplit(url)
-                if parts.scheme in ("data", "blob", "about") or parts.hostname == LOCAL_HOST:
-                    return
-                aborted.add(url)
-                res = current["page"]
-                if res is not None:
-                    res.problems.append(f"page {res.path} requested external URL {url}")
-                else:
-                    site_problems.append(f"external request outside any page: {url}")
+        extra_results: list[PageResult] = []
+        extra_layouts: list[LayoutResult] = []
 
-            context.on("request", on_request)
-            page = context.new_page()
-            fonts: list[tuple[str, int]] = []
+        def finish(page) -> None:
+            """The other browsers' findings and printed pages, then the PDF (in ``page``)."""
+            from playwright.sync_api import Error as PlaywrightError
 
-            def on_console(msg) -> None:
-                res = current["page"]
-                if res is None or msg.type != "error":
-                    return
-                loc = (msg.location or {}).get("url", "")
-                if "favicon" in loc or "favicon" in msg.text:
-                    return
-                if any(u in msg.text or u == loc for u in aborted):
-                    return  # already reported as an external request
-                res.problems.append(f"page {res.path}: console error: {msg.text[:300]}"
-                                    + (f" ({loc})" if loc else ""))
-
-            def on_pageerror(exc) -> None:
-                res = current["page"]
-                if res is not None:
-                    res.problems.append(f"page {res.path}: uncaught JavaScript error: {exc}")
-
-            def on_response(resp) -> None:
-                res = current["page"]
-                url = resp.url
-                if "/mathjax/" in url and re.search(r"\.woff2?(\?|$)", url):
-                    fonts.append((url, resp.status))
-                if res is None or resp.status < 400 or "favicon" in url:
-                    return
-                res.failed_urls.append(url)
-                res.problems.append(f"page {res.path}: HTTP {resp.status} for {url}")
-
-            def on_requestfailed(req) -> None:
-                res = current["page"]
-                if res is None or req.url in aborted or "favicon" in req.url:
-                    return
-                res.failed_urls.append(req.url)
-                res.problems.append(f"page {res.path}: request failed: {req.url} "
-                                    f"({req.failure})")
-
-            page.on("console", on_console)
-            page.on("pageerror", on_pageerror)
-            page.on("response", on_response)
-            page.on("requestfailed", on_requestfailed)
-
-            for path in pages:
-                rel = path.relative_to(html_dir).as_posix()
-                res = PageResult(rel)
-                parser = _MathCounter()
-                parser.feed(path.read_text(encoding="utf-8", errors="replace"))
-                res.math_expected = parser.count
-                if page.viewport_size != VIEWPORT:
-                    # every page loads at 1280 px (the theme lays a page loaded at 400 px out
-                    # differently at 1280 px); resized on a blank page, which costs nothing
-                    page.goto("about:blank")
-                    page.set_viewport_size(VIEWPORT)
-                current["page"] = res
-                fonts.clear()
-                try:
-                    _check_page(page, base + quote(rel), res, parser.refresh_target, fonts)
-                except PlaywrightError as exc:
-                    res.problems.append(f"page {rel}: browser error: "
-                                        f"{str(exc).strip().splitlines()[0]}")
-                if parser.refresh_target is None:
-                    # 1280 px, then 400 px: one resize of the page (each resize lays the whole
-                    # page out again: the 112 of measuring each figure and layout at a window
-                    # and resizing back took 25 s of 150)
-                    measured: dict[int, LayoutResult] = {}
-                    shown: dict[int, list] = {}
-                    for viewport in LAYOUT_VIEWPORTS:
-                        try:
-                            if page.viewport_size != viewport:
-                                page.set_viewport_size(viewport)
-                            measured[viewport["width"]] = check_layout(page, rel, viewport)
-                            shown[viewport["width"]] = page.evaluate(_FIGURES_JS)
-                        except PlaywrightError as exc:
-                            measured.setdefault(viewport["width"],
-                                                LayoutResult(rel, width=viewport["width"]))
-                            res.problems.append(f"page {rel}: layout not measured at "
-                                                f"{viewport['width']} px: "
-                                                f"{str(exc).strip().splitlines()[0]}")
-                    for viewport in LAYOUT_VIEWPORTS:
-                        layouts.append(measured[viewport["width"]])
-                        res.problems += measured[viewport["width"]].problems()
-                    check_registry_figures(res, shown.get(FIGURE_VIEWPORT["width"], []),
-                                           shown.get(NARROW_VIEWPORT["width"], []))
-                doc = rel.removesuffix(".html")
-                if printer is not None and parser.refresh_target is None and printer.wants(doc):
-                    try:
-                        printer.add(page, doc)
-                    except PlaywrightError as exc:
-                        res.problems.append(f"page {rel}: not printed: "
-                                            f"{str(exc).strip().splitlines()[0]}")
-                current["page"] = None
-                res.problems = list(dict.fromkeys(res.problems))  # e.g. one 404 seen twice
-                results.append(res)
-                say(res.line())
-                for prob in res.problems:
-                    say(f"    {prob}")
-                if parser.refresh_target is None:
-                    for layout in layouts[-len(LAYOUT_VIEWPORTS):]:
-                        say(layout.line())
+            for k, proc, out in children:
+                rc = proc.wait()
+                found = _read_part(out)
+                if rc != 0 or found is None:
+                    err = (out.parent / f"{k}.err").read_text(errors="replace").strip()
+                    site_problems.append(f"browser worker {k + 1} of {workers} failed (exit "
+                                         f"{rc}): {err.splitlines()[-1] if err else 'no output'}")
+                    continue
+                part_results, part_layouts, part_problems, stats, lines = found
+                extra_results.extend(part_results)
+                extra_layouts.extend(part_layouts)
+                site_problems.extend(part_problems)
+                _merge_figure_stats(stats)
+                for line in lines:
+                    say(line)
+                if printer is not None:
+                    printer.load(out / "print")
             if printer is not None:
                 try:
                     stats = printer.write(page)
@@ -379,12 +328,31 @@ def check_site(
                                              "untypeset")
                 except (PlaywrightError, RuntimeError) as exc:
                     site_problems.append(f"PDF not written: {exc}")
-            context.close()
-            browser.close()
+
+        try:
+            results, layouts, problems = _browse(base, html_dir, pages[0::workers], printer,
+                                                 say, finish)
+        except _NoBrowser as exc:
+            return [str(exc)]
+        results += extra_results
+        layouts += extra_layouts
+        site_problems[:0] = problems
     finally:
+        for _k, proc, _out in children:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
         server.shutdown()
         server.server_close()
+        if parts_dir is not None:
+            shutil.rmtree(parts_dir, ignore_errors=True)
 
+    order = {p.relative_to(html_dir).as_posix(): i for i, p in enumerate(pages)}
+    results.sort(key=lambda r: order.get(r.path, len(order)))
+    layouts.sort(key=lambda r: order.get(r.path, len(order)))
+    missing = sorted(set(order) - {r.path for r in results}, key=order.get)
+    if missing and not any(p.startswith("browser worker") for p in site_problems):
+        site_problems.append(f"{len(missing)} pages not checked: {missing[:5]}")
     math_pages = sum(1 for r in results if r.math_expected and r.math_typeset)
     images = sum(r.images_ok for r in results)
     if len(results) < min_pages:
@@ -416,6 +384,209 @@ def check_site(
         say(f"SITE: {prob}")
     say(f"browser check: {n_ok} passed, {len(results) - n_ok} failed")
     return [p for r in results for p in r.problems] + site_problems
+
+
+def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
+            finish: Callable | None = None) -> tuple[list, list, list[str]]:
+    """Load and check ``pages`` in one headless Chromium against the server at ``base``;
+    returns ``(page results, layout results, problems outside any page)`` and adds to
+    :data:`FIGURE_STATS`. ``printer``: print each page of the table of contents after its
+    checks. ``finish(page)`` runs last, with the browser still open (the PDF is written
+    there). Raises :class:`_NoBrowser` if Chromium cannot start."""
+    from playwright.sync_api import Error as PlaywrightError
+    from playwright.sync_api import sync_playwright
+
+    results: list[PageResult] = []
+    layouts: list[LayoutResult] = []
+    site_problems: list[str] = []
+    with sync_playwright() as pw:
+        try:
+            browser = _launch(pw)
+        except (PlaywrightError, FileNotFoundError) as exc:
+            first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            raise _NoBrowser(f"cannot start headless Chromium at {CHROMIUM}: {first}; "
+                             f"{INSTALL_HINT} (browser check cannot run)") from None
+        context = browser.new_context(service_workers="block", viewport=VIEWPORT)
+        current: dict[str, PageResult | None] = {"page": None}
+        aborted: set[str] = set()
+
+        def on_request(req) -> None:
+            # a listener, not a route: routing every request through Python cost a fifth
+            # of the page loads; the request itself fails in Chromium's resolver
+            url = req.url
+            parts = urlsplit(url)
+            if parts.scheme in ("data", "blob", "about") or parts.hostname == LOCAL_HOST:
+                return
+            aborted.add(url)
+            res = current["page"]
+            if res is not None:
+                res.problems.append(f"page {res.path} requested external URL {url}")
+            else:
+                site_problems.append(f"external request outside any page: {url}")
+
+        context.on("request", on_request)
+        page = context.new_page()
+        fonts: list[tuple[str, int]] = []
+
+        def on_console(msg) -> None:
+            res = current["page"]
+            if res is None or msg.type != "error":
+                return
+            loc = (msg.location or {}).get("url", "")
+            if "favicon" in loc or "favicon" in msg.text:
+                return
+            if any(u in msg.text or u == loc for u in aborted):
+                return  # already reported as an external request
+            res.problems.append(f"page {res.path}: console error: {msg.text[:300]}"
+                                + (f" ({loc})" if loc else ""))
+
+        def on_pageerror(exc) -> None:
+            res = current["page"]
+            if res is not None:
+                res.problems.append(f"page {res.path}: uncaught JavaScript error: {exc}")
+
+        def on_response(resp) -> None:
+            res = current["page"]
+            url = resp.url
+            if "/mathjax/" in url and re.search(r"\.woff2?(\?|$)", url):
+                fonts.append((url, resp.status))
+            if res is None or resp.status < 400 or "favicon" in url:
+                return
+            res.failed_urls.append(url)
+            res.problems.append(f"page {res.path}: HTTP {resp.status} for {url}")
+
+        def on_requestfailed(req) -> None:
+            res = current["page"]
+            if res is None or req.url in aborted or "favicon" in req.url:
+                return
+            res.failed_urls.append(req.url)
+            res.problems.append(f"page {res.path}: request failed: {req.url} "
+                                f"({req.failure})")
+
+        page.on("console", on_console)
+        page.on("pageerror", on_pageerror)
+        page.on("response", on_response)
+        page.on("requestfailed", on_requestfailed)
+
+        for path in pages:
+            rel = path.relative_to(html_dir).as_posix()
+            res = PageResult(rel)
+            parser = _MathCounter()
+            parser.feed(path.read_text(encoding="utf-8", errors="replace"))
+            res.math_expected = parser.count
+            if page.viewport_size != VIEWPORT:
+                # every page loads at 1280 px (the theme lays a page loaded at 400 px out
+                # differently at 1280 px); resized on a blank page, which costs nothing
+                page.goto("about:blank")
+                page.set_viewport_size(VIEWPORT)
+            current["page"] = res
+            fonts.clear()
+            try:
+                _check_page(page, base + quote(rel), res, parser.refresh_target, fonts)
+            except PlaywrightError as exc:
+                res.problems.append(f"page {rel}: browser error: "
+                                    f"{str(exc).strip().splitlines()[0]}")
+            if parser.refresh_target is None:
+                # 1280 px, then 400 px: one resize of the page (each resize lays the whole
+                # page out again: the 112 of measuring each figure and layout at a window
+                # and resizing back took 25 s of 150)
+                measured: dict[int, LayoutResult] = {}
+                shown: dict[int, list] = {}
+                for viewport in LAYOUT_VIEWPORTS:
+                    try:
+                        if page.viewport_size != viewport:
+                            page.set_viewport_size(viewport)
+                        measured[viewport["width"]] = check_layout(page, rel, viewport)
+                        shown[viewport["width"]] = page.evaluate(_FIGURES_JS)
+                    except PlaywrightError as exc:
+                        measured.setdefault(viewport["width"],
+                                            LayoutResult(rel, width=viewport["width"]))
+                        res.problems.append(f"page {rel}: layout not measured at "
+                                            f"{viewport['width']} px: "
+                                            f"{str(exc).strip().splitlines()[0]}")
+                for viewport in LAYOUT_VIEWPORTS:
+                    layouts.append(measured[viewport["width"]])
+                    res.problems += measured[viewport["width"]].problems()
+                check_registry_figures(res, shown.get(FIGURE_VIEWPORT["width"], []),
+                                       shown.get(NARROW_VIEWPORT["width"], []))
+            doc = rel.removesuffix(".html")
+            if printer is not None and parser.refresh_target is None and printer.wants(doc):
+                try:
+                    printer.add(page, doc)
+                except PlaywrightError as exc:
+                    res.problems.append(f"page {rel}: not printed: "
+                                        f"{str(exc).strip().splitlines()[0]}")
+            current["page"] = None
+            res.problems = list(dict.fromkeys(res.problems))  # e.g. one 404 seen twice
+            results.append(res)
+            say(res.line())
+            for prob in res.problems:
+                say(f"    {prob}")
+            if parser.refresh_target is None:
+                for layout in layouts[-len(LAYOUT_VIEWPORTS):]:
+                    say(layout.line())
+        if finish is not None:
+            finish(page)
+        context.close()
+        browser.close()
+    return results, layouts, site_problems
+
+
+def _merge_figure_stats(other: dict) -> None:
+    """Add another browser's :data:`FIGURE_STATS` to this process's."""
+    for key in ("figures", "pages", "narrow_scrolling"):
+        FIGURE_STATS[key] += other[key]
+    for key in ("min_panel_px", "min_font_px", "narrow_panel_px", "narrow_font_px"):
+        vals = [v for v in (FIGURE_STATS[key], other[key]) if v is not None]
+        FIGURE_STATS[key] = min(vals) if vals else None
+
+
+PART_FILE = "part.json"
+
+
+def _write_part(out: Path, results, layouts, problems, lines) -> None:
+    """What a ``--part`` child found, for :func:`check_site` (JSON, written last)."""
+    out.mkdir(parents=True, exist_ok=True)
+    data = {"results": [asdict(r) for r in results], "layouts": [asdict(r) for r in layouts],
+            "problems": problems, "figure_stats": FIGURE_STATS, "lines": lines}
+    tmp = out / (PART_FILE + ".tmp")
+    tmp.write_text(json.dumps(data), encoding="utf-8")
+    tmp.replace(out / PART_FILE)
+
+
+def _read_part(out: Path):
+    """``(results, layouts, problems, figure stats, log lines)`` of a child, or ``None``."""
+    try:
+        data = json.loads((out / PART_FILE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return ([PageResult(**r) for r in data["results"]],
+            [LayoutResult(**r) for r in data["layouts"]],
+            data["problems"], data["figure_stats"], data["lines"])
+
+
+def _run_part(html_dir: Path, part: str, base: str, out: Path, print_to: Path | None) -> int:
+    """A ``--part K/N`` child: check every N-th page from the K-th (0-based) against the
+    server at ``base``, print them if ``print_to`` (the book's PDF path: its pages go to
+    ``out/print``), and write the findings to ``out``."""
+    k, n = (int(x) for x in part.split("/"))
+    html_dir = html_dir.resolve()
+    pages = list_pages(html_dir)[k::n]
+    printer = None
+    if print_to is not None:
+        from pdf_book import Printer
+
+        printer = Printer(html_dir, print_to)
+    lines: list[str] = []
+    try:
+        results, layouts, problems = _browse(base, html_dir, pages, printer, lines.append)
+    except _NoBrowser as exc:
+        print(exc, file=sys.stderr)
+        return 1
+    if printer is not None:
+        printer.dump(out / "print")
+    _write_part(out, results, layouts, problems, lines)
+    return 0
 
 
 def _check_page(page, url: str, res: PageResult, refresh: str | None,
@@ -1072,11 +1243,22 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--min-pages", type=int, default=0)
     ap.add_argument("--min-math-pages", type=int, default=0)
     ap.add_argument("--min-images", type=int, default=0)
+    ap.add_argument("--workers", type=int, default=None,
+                    help=f"browsers side by side (default ${WORKERS_ENV}, else 2)")
+    # a child of check_site (one browser of several): not for the command line
+    ap.add_argument("--part", help=argparse.SUPPRESS)
+    ap.add_argument("--base", help=argparse.SUPPRESS)
+    ap.add_argument("--part-out", type=Path, help=argparse.SUPPRESS)
+    ap.add_argument("--print-to", type=Path, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.part:
+        return _run_part(args.html_dir, args.part, args.base, args.part_out, args.print_to)
+    if args.workers is not None and args.workers < 1:
+        ap.error("--workers must be at least 1")
     start = time.monotonic()
     problems = check_site(args.html_dir, min_pages=args.min_pages,
                           min_math_pages=args.min_math_pages, min_images=args.min_images,
-                          log=lambda m: print(m, flush=True))
+                          log=lambda m: print(m, flush=True), workers=args.workers)
     if problems and not any(p.startswith("page ") or p.startswith("only ") for p in problems):
         # Nothing was checked (no browser, no site): say so on stdout too.
         for p in problems:

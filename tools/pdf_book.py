@@ -23,6 +23,7 @@ import functools
 import html
 import http.server
 import io
+import json
 import shutil
 import socketserver
 import sys
@@ -283,6 +284,7 @@ class Printer:
         if missing:
             raise FileNotFoundError(f"pages missing from {site}: {missing}")
         self.printed: dict[str, tuple[str, object]] = {}  # doc -> (title, PdfReader)
+        self.raw: dict[str, bytes] = {}  # doc -> the PDF Chromium printed (for dump())
         self.raw_math = 0
         self.origin = ""  # the local server's http://127.0.0.1:PORT, seen in add()
         self.sections: dict[str, list] = {}  # doc -> [(id, title)] of its second-level sections
@@ -310,9 +312,38 @@ class Printer:
         pdf = page.pdf(**PAGE, print_background=True, prefer_css_page_size=False)
         reader = PdfReader(io.BytesIO(pdf))
         self.printed[doc] = (info["title"], reader)
+        self.raw[doc] = pdf
         self.raw_math += info["rawMath"]
         print(f"pdf: {doc:<40} {len(reader.pages):3d} pages  {info['images']:2d} images"
               + (f"  RAW MATH {info['rawMath']}" if info["rawMath"] else ""), flush=True)
+
+    def dump(self, folder: Path) -> None:
+        """Write what :meth:`add` printed to ``folder`` (the PDFs as Chromium printed them,
+        titles, sections, the origin): a second browser's share, for :meth:`load`."""
+        folder.mkdir(parents=True, exist_ok=True)
+        docs = {}
+        for i, doc in enumerate(self.raw):
+            (folder / f"{i}.pdf").write_bytes(self.raw[doc])
+            docs[doc] = {"file": f"{i}.pdf", "title": self.printed[doc][0],
+                         "sections": self.sections.get(doc, [])}
+        meta = {"docs": docs, "raw_math": self.raw_math, "origin": self.origin}
+        (folder / "printed.json").write_text(json.dumps(meta), encoding="utf-8")
+
+    def load(self, folder: Path) -> None:
+        """Take the pages another printer :meth:`dump`-ed to ``folder``; ValueError if they
+        were printed from another server (their links would not be rewritten)."""
+        from pypdf import PdfReader
+
+        meta = json.loads((folder / "printed.json").read_text(encoding="utf-8"))
+        if meta["docs"] and self.origin and meta["origin"] != self.origin:
+            raise ValueError(f"pages printed from {meta['origin']}, not {self.origin}")
+        self.origin = self.origin or meta["origin"]
+        for doc, d in meta["docs"].items():
+            pdf = (folder / d["file"]).read_bytes()
+            self.printed[doc] = (d["title"], PdfReader(io.BytesIO(pdf)))
+            self.raw[doc] = pdf
+            self.sections[doc] = d["sections"]
+        self.raw_math += meta["raw_math"]
 
     def write_chapters(self, chapters, cfg) -> None:
         """One PDF per page of the book (a lecture's handout): ``<out>/../chapters/<doc>.pdf``

@@ -13,9 +13,10 @@ Stages (all run; the exit code is 1 if any failed):
                each kernel forked from a process that has imported the chapters' libraries
                (tools/kernel_fork.py; a kernel whose environment differs starts anew)
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-4. site        pytest on the built site: no external resources, headless-Chromium check; the
-               browser check also prints the site as one PDF (tools/pdf_book.py's Printer) from
-               the pages it has loaded and checked
+4. site        pytest on the built site: no external resources, headless-Chromium check (two
+               browsers side by side: tools/browser_check.py); the browser check also prints
+               the site as one PDF (tools/pdf_book.py's Printer) from the pages it has loaded
+               and checked
 5. library     pytest on the library and the repository (not the site, not `slow`)
 6. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
 

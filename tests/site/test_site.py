@@ -235,6 +235,45 @@ def test_browser_check(site: Path, capsys) -> None:
         pytest.fail("browser check found problems:\n" + "\n".join(problems))
 
 
+def test_browser_check_with_two_browsers_reports_what_one_does(tmp_path: Path) -> None:
+    """The browsers that check the pages side by side (``--part`` children of
+    tools/browser_check.py) report every page and problem that one browser reports, in the
+    same order, and a child that cannot run fails the check."""
+    browser_check = _load_browser_check()
+    (tmp_path / "index.html").write_text("<html><body><p>index</p></body></html>")
+    for i in range(5):
+        body = f"<p>page {i}</p>"
+        if i == 1:
+            body += '<img src="missing.png" alt="a figure that is not there">'
+        if i == 4:
+            body += '<img src="http://example.invalid/x.png" alt="from outside the site">'
+        (tmp_path / f"p{i}.html").write_text(f"<html><body>{body}</body></html>")
+    found = {}
+    for workers in (1, 2):
+        lines: list[str] = []
+        problems = browser_check.check_site(tmp_path, log=lines.append, workers=workers)
+        problems = [re.sub(r"127\.0\.0\.1:\d+", "127.0.0.1:PORT", x) for x in problems]
+        pages = [x.split(":")[0] for x in lines if x.startswith(("PASS ", "FAIL "))]
+        found[workers] = (problems, sorted(pages), lines[-1])
+    assert found[2] == found[1]
+    problems, pages, last = found[1]
+    assert len(pages) == 6 and last == "browser check: 4 passed, 2 failed"
+    assert any("p1.html: image did not load" in x for x in problems)
+    assert any("p4.html requested external URL http://example.invalid" in x for x in problems)
+    # a child that cannot start its browser: the check fails and says which
+    env = os.environ.copy()
+    os.environ[browser_check.WORKERS_ENV] = "2"
+    try:
+        # the parent's browser was chosen when the module was loaded; the child's reads this
+        os.environ["FUSIONCENTER_CHROMIUM"] = str(tmp_path / "no-such-browser")
+        problems = browser_check.check_site(tmp_path, log=lambda _x: None)
+    finally:
+        os.environ.clear()
+        os.environ.update(env)
+    assert any(x.startswith("browser worker 2 of 2 failed") and "no-such-browser" in x
+               for x in problems), problems
+
+
 def _toc_files(node) -> list[str]:
     files: list[str] = []
     if isinstance(node, dict):
