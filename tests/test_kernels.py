@@ -575,3 +575,66 @@ def test_white_gauss_add_is_the_numpy_arithmetic():
     got = lw0.copy()
     _vector_kernels.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs, got)
     assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 7])
+def test_group_stats_is_the_numpy_arithmetic(m):
+    """``group_stats`` gives the floats of ``censoring.fusion``'s NumPy expressions (the
+    group's sum left to right, as NumPy's ``sum(axis=1)`` adds at most 7 numbers), signed
+    zeros and all-silent rows included; beyond 7 NumPy sums pairwise (the caller keeps it)."""
+    rng = np.random.default_rng(m)
+    n, T, N = 500, 3, 9
+    z = rng.standard_normal((n, T, N)) * 10.0 ** rng.integers(-8, 9, (n, T, N))
+    z[rng.random((n, T, N)) < 0.05] = -0.0
+    sent = rng.random((n, T, N)) < 0.6
+    sent[:10] = False  # rows with no received sensor
+    g = np.sort(rng.choice(N, m, replace=False)).astype(np.int64)
+    k, c = 1, -0.5 / 1.7
+    zbar, coef, nsil = np.empty(n), np.empty(n), np.empty(n, dtype=np.int64)
+    n_any, n_sil = _kernels.group_stats(sent, z, k, g, c, zbar, coef, nsil)
+    sg = sent[:, k][:, g]
+    n_obs = sg.sum(axis=1)
+    ref = np.where(sg, z[:, k][:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
+    assert np.array_equal(zbar.view(np.int64), ref.view(np.int64))  # signs of zeros too
+    assert np.array_equal(coef, c * n_obs) and np.array_equal(nsil, m - n_obs)
+    assert (n_any, n_sil) == (np.count_nonzero(n_obs), np.count_nonzero(m - n_obs))
+    # why the limit: eight numbers are summed pairwise by NumPy, not left to right
+    x = np.array([[1e16, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, -1e16]])
+    left = 0.0
+    for v in x[0, :8]:
+        left += v
+    assert _kernels.GROUP_SUM_MAX == 7 and x[:, :7].sum(axis=1)[0] == sum(x[0, :7])
+    assert x[:, :8].sum(axis=1)[0] != left
+
+
+def test_censor_decisions_are_the_numpy_comparison():
+    rng = np.random.default_rng(3)
+    n, T, N = 400, 4, 3
+    z = rng.standard_normal((n, T, N)) * 3
+    hx = rng.standard_normal((n, N))
+    hx[:5] = z[:5, 2]  # nu = 0: sent only if the threshold is 0
+    sent = np.zeros((n, T, N), dtype=bool)
+    for s in (rng.uniform(0.5, 2, N)[None, :], rng.uniform(0.5, 2, (n, N))):
+        for eta in (0.0, 0.45):
+            _kernels.censor_decisions(z, 2, hx, s, eta, sent)
+            nu = z[:, 2] - hx
+            assert np.array_equal(sent[:, 2], nu * nu >= eta * s)
+            assert not sent[:, [0, 1, 3]].any()
+
+
+def test_shift_by_row_max_is_numpys_max_and_subtraction():
+    rng = np.random.default_rng(4)
+    lw = rng.standard_normal((6, 300)) * 50
+    lw[1] = -np.inf  # no compatible particle: the row is set to 0
+    lw[2, ::3] = -np.inf
+    lw[3, 7] = np.nan
+    lw[4, 9] = np.inf
+    ref_mx = lw.max(axis=1)
+    ref = lw.copy()
+    fin = np.isfinite(ref_mx)
+    ref[fin] -= ref_mx[fin, None]
+    ref[1] = 0.0
+    mx = np.empty(6)
+    _kernels.shift_by_row_max(lw, mx)
+    assert np.array_equal(mx, ref_mx, equal_nan=True)
+    assert np.array_equal(lw, ref, equal_nan=True)

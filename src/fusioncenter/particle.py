@@ -545,7 +545,7 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
     # 0 for the others; ``offset`` is log(sum of the carried weights) (log P after resampling)
     carried = None if every_step else np.zeros((n, P))
     offset = np.full(n, math.log(P))
-    S, ess_b = np.empty(n), np.empty(n)
+    S, ess_b, mx = np.empty(n), np.empty(n), np.empty(n)
     mean = np.empty((n, d))
     spare = np.empty_like(x)  # the same memory layout as x (see by_component)
     all_rows = np.ones(n, dtype=bool)
@@ -561,14 +561,14 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
             raise ValueError(f"model.log_weight returned shape {lw.shape}, expected {(n, P)}")
         if carried is not None:
             lw += carried
-        mx = lw.max(axis=1)
+        # lw -= its row maximum (rows of -inf, no particle compatible with the data, set to 0:
+        # they are ignored), in one compiled pass: NumPy's max and subtraction, the same floats
+        _kernels.shift_by_row_max(lw, mx)
         if not np.isfinite(mx.sum()) and (np.isnan(mx).any() or np.any(mx == np.inf)):
             raise ValueError("log weights must not be NaN or +inf")
-        dead = mx == -np.inf  # no particle compatible with the data: ignore them
+        dead = mx == -np.inf
         if dead.any():
-            lw[dead] = 0.0
             mx[dead] = 0.0
-        lw -= mx[:, None]
         w = np.exp(lw, out=lw)
         _kernels.weighted_moments(w, x, S, mean, ess_b)
         collapsed[:, t - 1] = dead

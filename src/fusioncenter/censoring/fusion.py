@@ -349,8 +349,11 @@ class LinearFusionCentre:
                                          lambda: _local_decisions(sc, eta, z))
         self.nf_region = scheme == "cfwmd" and feedback == "none"
         self.needs_cov = self.need_cov
+        self.uses_silence = scheme == "cfwmd" and self.fb  # silent_rows' condition
         self._tmp = np.empty((n, 0))
         self._g = np.empty((n, 0, 0))
+        self._zbar, self._gcoef = np.empty(n), np.empty(n)  # per group (group_stats)
+        self._nsil = np.empty(n, dtype=np.int64)
 
     # --- the sensors' decisions at step k = t - 1 (feedback)
     def _decide(self, k: int, pos, vel) -> np.ndarray | None:
@@ -368,8 +371,9 @@ class LinearFusionCentre:
             s = np.einsum("ik,nkl,il->ni", self.H, self.pred_cov, self.H) + self.r
         else:
             s = self.local["s"][k]
-        nu = self.z[:, k] - self.pred_mean @ self.H.T
-        self.sent[:, k] = nu * nu >= self.eta * s
+        # nu * nu >= eta * s, nu = z - hx, in one compiled pass (the same floats)
+        _kernels.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
+                                  s if s.ndim == 2 else s[None, :], self.eta, self.sent)
         return s
 
     # --- log weights at step k (additive per-row constants dropped)
@@ -385,19 +389,28 @@ class LinearFusionCentre:
             else:
                 y = hg[0] * pos + hg[1] * vel
             ys[int(g[0])] = y
-            sg = sent[:, g]
-            n_obs = sg.sum(axis=1)
-            gauss = None
-            if n_obs.any():
-                # sum over the received sensors of log N(z_i; y, r) = -n (y - zbar)^2 / (2 r) +
-                # a constant per trial (centred: no cancellation however large the positions)
-                zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
-                # (y - zbar)^2 (-n / (2 r)), written or added in one compiled pass
-                gauss = (zbar, -0.5 / rg * n_obs, started)
-            silent = silent_rows(self, g, n_obs)
+            # the sum over the received sensors of log N(z_i; y, r) is -n (y - zbar)^2 / (2 r)
+            # plus a constant per trial (centred: no cancellation however large the
+            # positions); gauss = (zbar, -n / (2 r), add): written or added in one compiled pass
+            if g.size <= _kernels.GROUP_SUM_MAX:  # zbar, n and the silent count: one call
+                n_any, n_silent = _kernels.group_stats(self.sent, self.z, k, g, -0.5 / rg,
+                                                       self._zbar, self._gcoef, self._nsil)
+                gauss = (self._zbar, self._gcoef, started) if n_any else None
+                silent = (self._nsil, None) if n_silent and self.uses_silence else None
+            else:  # NumPy's pairwise sum of 8 or more sensors
+                sg = sent[:, g]
+                n_obs = sg.sum(axis=1)
+                gauss = None
+                if n_obs.any():
+                    zbar = np.where(sg, z[:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
+                    gauss = (zbar, -0.5 / rg * n_obs, started)
+                silent = silent_rows(self, g, n_obs)
+                n_silent = 0 if silent is None else silent[1].size
             # most trials have a silent sensor: evaluate every row (no fancy indexing) and
             # zero the others, unless few rows need it
-            every = silent is not None and 2 * silent[1].size >= silent[0].size
+            every = silent is not None and 2 * n_silent >= silent[0].size
+            if silent is not None and not every and silent[1] is None:
+                silent = (silent[0], np.flatnonzero(silent[0]))
             fused = every and self.feedback != "state+cov" and gauss is not None
             if gauss is not None and not fused:
                 _kernels.gauss_terms(y, gauss[0], gauss[1], lw, gauss[2])
