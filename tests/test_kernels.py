@@ -638,3 +638,26 @@ def test_shift_by_row_max_is_numpys_max_and_subtraction():
     _kernels.shift_by_row_max(lw, mx)
     assert np.array_equal(mx, ref_mx, equal_nan=True)
     assert np.array_equal(lw, ref, equal_nan=True)
+
+
+@pytest.mark.parametrize("layout", ["component", "C"])
+@pytest.mark.parametrize("k", [1, 2])
+def test_propagate_draw_kernel_is_standard_normal_then_propagate(layout, k):
+    """Both paths of ``propagate_wna_draw`` (rows of a component contiguous and ``k = 1``;
+    any other) give NumPy's ``standard_normal`` then ``propagate_wna``, and leave the
+    generator where ``standard_normal`` does."""
+    from fusioncenter import _ziggurat
+
+    zig = _inline_tables()
+    rng = np.random.default_rng(8)
+    x0 = rng.standard_normal((5, 700, 2))
+    L = rng.standard_normal((2, k))
+    a = particle.by_component(x0) if layout == "component" else x0.copy()
+    ref = x0.copy()
+    g1, g2 = (np.random.Generator(np.random.SFC64(9)) for _ in range(2))
+    st = _ziggurat.draw_state(g1)
+    _transition_kernels.propagate_wna_draw(a, 0.5, L, st, *zig)
+    _ziggurat.set_state(g1, st)
+    _transition_kernels.propagate_wna(ref, 0.5, g2.standard_normal((5, 700, k)), L)
+    assert np.array_equal(a, ref)
+    assert np.array_equal(g1.random(4), g2.random(4))

@@ -70,6 +70,15 @@ def _sfc64_next(s):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_step(a, b, c, w):
+    """:func:`_sfc64_next` on a state held in four variables ``(a, b, c, w)`` (in registers:
+    the array's state went through memory at every draw, since the compiler cannot tell it
+    from the particles' arrays). Returns ``(output, a, b, c, w)``."""
+    out = a + b + w
+    return out, b ^ (b >> _U11), c + (c << _U3), ((c << _U24) | (c >> _U40)) + out, w + _U1
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
 def _sfc64_double(s):
     """A uniform in ``[0, 1)`` from the top 53 bits (NumPy's ``next_double``)."""
     return np.float64(_sfc64_next(s) >> _U11) * (1.0 / 9007199254740992.0)
@@ -124,14 +133,18 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
     of normals."""
     m, P = x.shape[0], x.shape[1]
     k = L.shape[1]
-    for b in range(m):
-        for i in range(P):
-            p = x[b, i, 0]
-            v = x[b, i, 1]
-            p = p + v * dt
-            for j in range(k):
+    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]  # the state in registers (_sfc64_step)
+    if k == 1 and x.strides[1] == 8 and P > 1:  # stored by component: rows of a component
+        l0, l1 = L[0, 0], L[1, 0]
+        for b in range(m):
+            pb = np.ascontiguousarray(x[b, :, 0])  # views (the rows are contiguous), typed so
+            vb = np.ascontiguousarray(x[b, :, 1])
+            for i in range(P):
+                p = pb[i]
+                v = vb[i]
+                p = p + v * dt
                 while True:
-                    u = _sfc64_next(s)
+                    u, s0, s1, s2, s3 = _sfc64_step(s0, s1, s2, s3)
                     idx = np.intp(u & _M8)
                     u = u >> _U8
                     rabs = (u >> _U1) & _M52
@@ -140,13 +153,41 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
                         gj = -gj
                     if rabs < ki[idx]:
                         break
+                    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
                     ok, gj = _normal_rare(s, idx, rabs, gj, fi, r, inv_r)
+                    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
+                    if ok:
+                        break
+                pb[i] = p + gj * l0
+                vb[i] = v + gj * l1
+        s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+        return
+    for b in range(m):
+        for i in range(P):
+            p = x[b, i, 0]
+            v = x[b, i, 1]
+            p = p + v * dt
+            for j in range(k):
+                while True:
+                    u, s0, s1, s2, s3 = _sfc64_step(s0, s1, s2, s3)
+                    idx = np.intp(u & _M8)
+                    u = u >> _U8
+                    rabs = (u >> _U1) & _M52
+                    gj = np.float64(rabs) * wi[idx]
+                    if u & _U1:
+                        gj = -gj
+                    if rabs < ki[idx]:
+                        break
+                    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
+                    ok, gj = _normal_rare(s, idx, rabs, gj, fi, r, inv_r)
+                    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]
                     if ok:
                         break
                 p = p + gj * L[0, j]
                 v = v + gj * L[1, j]
             x[b, i, 0] = p
             x[b, i, 1] = v
+    s[0], s[1], s[2], s[3] = s0, s1, s2, s3
 
 
 @intrinsic
