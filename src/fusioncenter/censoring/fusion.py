@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from fusioncenter import _kernels, _transition_kernels, _ziggurat, particle
+from fusioncenter.censoring import _decisions
 from fusioncenter.censoring._probability_core import (
     log_prob_inside,
     log_region_probability,
@@ -372,7 +373,7 @@ class LinearFusionCentre:
         else:
             s = self.local["s"][k]
         # nu * nu >= eta * s, nu = z - hx, in one compiled pass (the same floats)
-        _kernels.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
+        _decisions.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
                                   s if s.ndim == 2 else s[None, :], self.eta, self.sent)
         return s
 
@@ -392,8 +393,8 @@ class LinearFusionCentre:
             # the sum over the received sensors of log N(z_i; y, r) is -n (y - zbar)^2 / (2 r)
             # plus a constant per trial (centred: no cancellation however large the
             # positions); gauss = (zbar, -n / (2 r), add): written or added in one compiled pass
-            if g.size <= _kernels.GROUP_SUM_MAX:  # zbar, n and the silent count: one call
-                n_any, n_silent = _kernels.group_stats(self.sent, self.z, k, g, -0.5 / rg,
+            if g.size <= _decisions.GROUP_SUM_MAX:  # zbar, n and the silent count: one call
+                n_any, n_silent = _decisions.group_stats(self.sent, self.z, k, g, -0.5 / rg,
                                                        self._zbar, self._gcoef, self._nsil)
                 gauss = (self._zbar, self._gcoef, started) if n_any else None
                 silent = (self._nsil, None) if n_silent and self.uses_silence else None
