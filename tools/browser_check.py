@@ -317,7 +317,11 @@ def check_site(
                 for line in lines:
                     say(line)
                 if printer is not None:
-                    printer.load(out / "print")
+                    try:
+                        printer.load(out / "print")
+                    except (OSError, ValueError) as exc:
+                        site_problems.append(f"browser worker {k + 1} of {workers}: its printed "
+                                             f"pages not merged: {exc}")
             if printer is not None:
                 try:
                     stats = printer.write(page)

@@ -374,7 +374,7 @@ class LinearFusionCentre:
             s = self.local["s"][k]
         # nu * nu >= eta * s, nu = z - hx, in one compiled pass (the same floats)
         _decisions.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
-                                  s if s.ndim == 2 else s[None, :], self.eta, self.sent)
+                                    s if s.ndim == 2 else s[None, :], self.eta, self.sent)
         return s
 
     # --- log weights at step k (additive per-row constants dropped)
@@ -395,7 +395,7 @@ class LinearFusionCentre:
             # positions); gauss = (zbar, -n / (2 r), add): written or added in one compiled pass
             if g.size <= _decisions.GROUP_SUM_MAX:  # zbar, n and the silent count: one call
                 n_any, n_silent = _decisions.group_stats(self.sent, self.z, k, g, -0.5 / rg,
-                                                       self._zbar, self._gcoef, self._nsil)
+                                                         self._zbar, self._gcoef, self._nsil)
                 gauss = (self._zbar, self._gcoef, started) if n_any else None
                 silent = (self._nsil, None) if n_silent and self.uses_silence else None
             else:  # NumPy's pairwise sum of 8 or more sensors
