@@ -313,3 +313,22 @@ def test_execution_status_page_lists_every_notebook_chapter(site):
         assert f'href="{doc.removeprefix("book/")}.html' in html, doc  # a link to it
     assert all(re.search(r">\s*(cache|executed|executed by nbval)\s*<", r) for r in body)
     assert "status.html" in (site / "book" / "scorecard.html").read_text(encoding="utf-8")
+
+
+def test_doctrees_hold_no_other_document(site):
+    """Every node of a pickled page belongs to that page's document (api_modules.rehome_nodes):
+    a node pointing at another document pickles that document's settings, and with them the
+    whole build environment, into the page (it did for each API page, 600 kB each)."""
+    import pickle
+
+    doctrees = site.parent / ".doctrees"
+    files = sorted(doctrees.rglob("*.doctree"))
+    assert len(files) > 50, f"no doctrees under {doctrees}"
+    strays = {}
+    for f in files:
+        doctree = pickle.loads(f.read_bytes())
+        n = sum(1 for node in doctree.findall()
+                if vars(node).get("_document") not in (None, doctree))
+        if n:
+            strays[str(f.relative_to(doctrees))] = n
+    assert not strays, f"nodes of another document in: {strays}"
