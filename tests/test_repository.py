@@ -163,3 +163,38 @@ def test_readme_documents_every_exit_code_and_the_cache():
     assert {str(c) for c in codes} | {"130 / 143"} <= rows
     assert (cli.EXIT_INTERRUPTED, cli.EXIT_TERMINATED) == (130, 143)
     assert "FUSIONCENTER_COMPUTE_CACHE" in text and "`--csv -`" in text
+
+
+#: What the other Python's venv holds (tools/test_pythons.py): the library with its ``dask`` and
+#: ``notebook`` extras, pytest, hypothesis and PyYAML, besides the standard library.
+PYTHONS_VENV = {"fusioncenter", "numpy", "scipy", "sympy", "matplotlib", "filterpy", "tqdm",
+                "numba", "dask", "distributed", "IPython", "mpmath", "pytest", "hypothesis",
+                "yaml", "_pytest"}
+
+
+def test_library_tests_import_only_what_the_other_pythons_venv_holds():
+    """A test copied to ``make test-pythons`` must not import a book package (pybtex, Sphinx):
+    its venv holds the library alone, and collection would fail there (stop 37's CI)."""
+    import ast
+    import fnmatch
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    from test_pythons import NOT_LIBRARY
+
+    tests = ROOT / "tests"
+    local = {p.stem for p in tests.glob("*.py")}
+    wrong = []
+    for path in sorted(tests.rglob("*.py")):
+        parts = path.relative_to(tests).parts
+        if any(fnmatch.fnmatch(part, pat) for part in parts for pat in NOT_LIBRARY):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module] if isinstance(node, ast.ImportFrom) and node.level == 0
+                     else [])
+            for name in names:
+                top = name.split(".")[0]
+                if top not in sys.stdlib_module_names | PYTHONS_VENV | local:
+                    wrong.append(f"{path.relative_to(ROOT)}:{node.lineno} imports {name}")
+    assert not wrong, ("add these tests to NOT_LIBRARY in tools/test_pythons.py:\n"
+                       + "\n".join(wrong))

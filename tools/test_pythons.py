@@ -39,7 +39,7 @@ NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "
                "test_registry_texts.py", "test_errata_page.py",
                "test_student_path.py", "test_run_tests.py", "test_build_book_serve.py",
                "test_nbval_executed.py", "test_kernel_fork.py", "golden",
-               "site"]
+               "site", "test_ext_*.py"]  # test_ext_*: the book's Sphinx extensions
 
 
 def interpreter(version: str) -> str | None:
