@@ -1,8 +1,11 @@
 """A notebook cell that raises must fail the book build; a passing one must not; a chapter's
 own figure (``fusioncenter.book.figure`` and ``{book-figure}``) is a numbered, captioned figure.
 
-Builds two one-page fixture books (tests/fixtures/{failing,passing}_book: execute_notebooks:
-force, raise_on_error: true) with the same strict flags as ``tools/build_book.py --strict``.
+Builds two fixture books (tests/fixtures/failing_book, one page, and tests/fixtures/figure_book,
+a page with a figure and a page with a plain passing cell: execute_notebooks: force,
+raise_on_error: true) with the same strict flags as ``tools/build_book.py --strict``; the
+passing book is built once for both of its tests (each build is a jupyter-book process and a
+kernel, about 8 s).
 """
 
 from __future__ import annotations
@@ -34,19 +37,27 @@ def test_failing_cell_fails_the_build(tmp_path: Path) -> None:
     assert "RuntimeError" in output, output[-3000:]
 
 
-def test_passing_cell_builds(tmp_path: Path) -> None:
-    result = build("passing_book", tmp_path)
+@pytest.fixture(scope="module")
+def passing_book(tmp_path_factory) -> tuple[subprocess.CompletedProcess[str], Path]:
+    out = tmp_path_factory.mktemp("figure_book")
+    return build("figure_book", out), out
+
+
+def test_passing_cell_builds(passing_book) -> None:
+    result, out = passing_book
     output = result.stdout + result.stderr
     assert result.returncode == 0, output[-3000:]
-    index = tmp_path / "_build" / "html" / "index.html"
-    assert index.is_file(), f"no {index}:\n{output[-3000:]}"
-    assert "Passing fixture" in index.read_text(encoding="utf-8")
+    page = out / "_build" / "html" / "passing.html"
+    assert page.is_file(), f"no {page}:\n{output[-3000:]}"
+    text = page.read_text(encoding="utf-8")
+    assert "Passing fixture" in text, text[-3000:]
+    assert re.search(r"cell_output.*?<pre><span></span>2\s*</pre>", text, re.S), text[-3000:]
 
 
-def test_the_figure_is_numbered_captioned_and_described(tmp_path: Path) -> None:
-    result = build("figure_book", tmp_path)
+def test_the_figure_is_numbered_captioned_and_described(passing_book) -> None:
+    result, out = passing_book
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
-    page = (tmp_path / "_build" / "html" / "index.html").read_text(encoding="utf-8")
+    page = (out / "_build" / "html" / "index.html").read_text(encoding="utf-8")
     m = re.search(r'<figure class="[^"]*fc-book-figure[^"]*" id="fig-fixture-curves">(.*?)'
                   r"</figure>", page, re.S)
     assert m, "no book figure in the page"

@@ -144,8 +144,9 @@ def panel_letters(fig) -> list[str] | None:
 
 def unreadable_log_ticks(fig) -> list[str]:
     """Tick labels of log axes written as ``k×10^n`` (matplotlib's minor labels on an axis of
-    less than a decade): a reader wants plain numbers or powers of ten."""
-    fig.canvas.draw()
+    less than a decade): a reader wants plain numbers or powers of ten. The labels are set by
+    a layout pass; nothing is rasterised."""
+    fig.draw_without_rendering()
     bad = []
     for ax in fig.get_axes():
         for axis in (ax.xaxis, ax.yaxis):
