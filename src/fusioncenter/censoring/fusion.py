@@ -151,14 +151,15 @@ class ExactFusionCentre(ExactModel):
             k = t - 2
             hxh = xh @ self.Hblk  # (n, P, N)
             mu = xa[..., :2] @ self.H.T  # E[z | x] per sensor
-            sent = np.broadcast_to(self.sent[:, k][:, None, :], hxh.shape)
             zk = np.broadcast_to(self.z[:, k][:, None, :], hxh.shape).copy()
             u = rng.random(hxh.shape)
-            sil = ~sent
-            if sil.any():
-                sd = np.broadcast_to(self.sd, hxh.shape)[sil]
-                c, m, a = hxh[sil], mu[sil], np.broadcast_to(self.a[k], hxh.shape)[sil]
-                zk[sil] = m + sd * truncated_normal(u[sil], (c - a - m) / sd, (c + a - m) / sd)
+            for i in range(self.N):  # the trials where sensor i was silent (all particles)
+                rows = np.flatnonzero(~self.sent[:, k, i])
+                if rows.size:
+                    sd, a = self.sd[i], self.a[k, i]
+                    c, m = hxh[rows, :, i], mu[rows, :, i]
+                    zk[rows, :, i] = m + sd * truncated_normal(u[rows, :, i], (c - a - m) / sd,
+                                                               (c + a - m) / sd)
             out[..., 2:] = xh @ self.Fblk + (zk - hxh) @ self.G[k]
         else:
             out[..., 2:] = xh
@@ -172,12 +173,21 @@ class ExactFusionCentre(ExactModel):
         sent = self.sent[:, k][:, None, :]
         z = self.z[:, k][:, None, :]
         out = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, self.r), 0.0)
-        if not np.all(sent):
-            silent = np.broadcast_to(~sent, hx.shape)
-            out[silent] = log_prob_inside(((hx - hxh) / self.sd)[silent],
-                                           np.broadcast_to(self.a[k] / self.sd, hx.shape)[silent])
-        full = out.sum(axis=-1)
-        ok = (~sent | (np.abs(z - hxh) >= self.a[k])).all(axis=-1)  # (n, P)
+        ok = None  # (n, P): the particle's local predictions explain who sent
+        for i in range(self.N):  # sensor by sensor: the same elementwise arithmetic
+            rows = np.flatnonzero(~self.sent[:, k, i])
+            if rows.size:
+                sd = self.sd[i]
+                out[rows, :, i] = log_prob_inside((hx[rows, :, i] - hxh[rows, :, i]) / sd,
+                                                  self.a[k, i] / sd)
+            ok_i = ~sent[..., i] | (np.abs(z[..., i] - hxh[..., i]) >= self.a[k, i])
+            ok = ok_i if ok is None else np.logical_and(ok, ok_i, out=ok)
+        if self.N < 8:  # NumPy's sum over a short axis: 0.0 + out_0 + out_1 + ..., in turn
+            full = np.add(0.0, out[..., 0])
+            for i in range(1, self.N):
+                full += out[..., i]
+        else:
+            full = out.sum(axis=-1)
         return self._consistent(full, ok, k)
 
     def observe(self, t, mean, cov):
