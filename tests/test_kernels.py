@@ -361,6 +361,24 @@ def _inline_tables():
     return zig
 
 
+@pytest.mark.parametrize("bits", [np.random.SFC64, np.random.PCG64, np.random.Philox])
+@pytest.mark.parametrize("shape", [(7, 2), (5000, 2), (3, 4096)])
+def test_standard_normal_is_numpys_numbers_and_state(bits, shape):
+    """``_ziggurat.standard_normal(rng, shape)`` (what the vector FC's rejection sampler draws
+    with): ``rng.standard_normal(shape)``'s numbers, and the generator left where NumPy leaves
+    it, whether the draws are inline (SFC64, PCG64, at least INLINE_MIN) or NumPy's."""
+    from fusioncenter import _ziggurat
+
+    _inline_tables()
+    mine, ref = np.random.Generator(bits(11)), np.random.Generator(bits(11))
+    mine.random(3)
+    ref.random(3)
+    got = _ziggurat.standard_normal(mine, shape)
+    assert got.shape == shape and np.array_equal(got, ref.standard_normal(shape))
+    assert np.array_equal(mine.random(5), ref.random(5))
+    assert np.array_equal(_ziggurat.standard_normal(mine, (0, 2)), np.empty((0, 2)))
+
+
 @pytest.mark.parametrize("seed", [0, 2014])
 def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
     """The same for NumPy's default generator, PCG64 (128-bit state and increment): the

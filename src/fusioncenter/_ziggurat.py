@@ -22,12 +22,13 @@ from __future__ import annotations
 
 import functools
 import glob
+import math
 import os
 import struct
 
 import numpy as np
 
-__all__ = ["tables", "pcg64_tables", "draw_state", "set_state"]
+__all__ = ["tables", "pcg64_tables", "draw_state", "set_state", "standard_normal"]
 
 _NAMES = (b"ki_double", b"wi_double", b"fi_double")
 #: Draws of the acceptance check (about 0.7 % go through a wedge, 0.03 % through the tail).
@@ -132,3 +133,32 @@ def pcg64_tables():
     _transition_kernels.pcg64_normals(s, *zig, mine)
     want = rng.standard_normal(CHECK_DRAWS)
     return zig if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)) else None
+
+
+#: Below this many normals, NumPy's own call is cheaper than reading and writing the state
+#: (about 4 us for both: 19 ns a normal for 200 draws inline, 12 through NumPy; 2.9 against
+#: 8.5 for 20 000).
+INLINE_MIN = 4096
+
+
+def standard_normal(rng: np.random.Generator, shape: tuple) -> np.ndarray:
+    """``rng.standard_normal(shape)``: the same numbers, and ``rng`` left in the same state,
+    drawn by the compiled ziggurat (:func:`fusioncenter._transition_kernels.sfc64_normals` or
+    ``pcg64_normals``) when ``rng`` runs on SFC64 or PCG64, the tables check (:func:`tables`,
+    :func:`pcg64_tables`) and there are at least :data:`INLINE_MIN` draws; else by NumPy."""
+    n = math.prod(shape)
+    kind = type(rng.bit_generator)
+    zig = None
+    if n >= INLINE_MIN and kind in (np.random.SFC64, np.random.PCG64):
+        zig = tables() if kind is np.random.SFC64 else pcg64_tables()
+    if zig is None:
+        return rng.standard_normal(shape)
+    from fusioncenter import _transition_kernels
+
+    fill = (_transition_kernels.sfc64_normals if kind is np.random.SFC64
+            else _transition_kernels.pcg64_normals)
+    out = np.empty(shape)
+    s = draw_state(rng)
+    fill(s, *zig, out)
+    set_state(rng, s)
+    return out

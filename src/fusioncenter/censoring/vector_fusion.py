@@ -142,14 +142,15 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
     inv_a2 = 1.0 / (a * a)
     # the rounds of plain rejection, compiled (_kernels.ellipse_reject): the same draws, in the
     # same order, as ``u = standard_normal((len(todo), m)) + b[todo]`` per round
-    out = rng.standard_normal((k, m))
+    # (the normals: rng.standard_normal's, drawn by the compiled ziggurat: _ziggurat)
+    out = _ziggurat.standard_normal(rng, (k, m))
     todo = np.arange(k)
     left = _kernels.ellipse_reject(out, b, todo, inv_a2, out)
     for _ in range(rounds - 1):
         if left == 0:
             return out, 0
-        left = _kernels.ellipse_reject(rng.standard_normal((left, m)), b, todo[:left], inv_a2,
-                                       out)
+        left = _kernels.ellipse_reject(_ziggurat.standard_normal(rng, (left, m)), b,
+                                       todo[:left], inv_a2, out)
     todo = todo[:left]
     if todo.size == 0:
         return out, 0
