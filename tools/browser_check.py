@@ -131,13 +131,28 @@ class _MathCounter(HTMLParser):
 
 
 class _QuietHandler(http.server.SimpleHTTPRequestHandler):
+    """Serves the site. Pages (HTML) and every answer but a 200 are never cached; a static
+    file answered 200 (theme CSS and JavaScript, MathJax and its fonts, images) is kept by
+    Chromium for the run, so that the next page takes it, already compiled, from the cache
+    instead of fetching and compiling MathJax again: on the fast site (114 pages checked and
+    printed, one browser) 184.1 s -> 158.5 s, the same findings and the same text on all 619
+    PDF pages. A cached answer still reaches the page's ``response`` listener, with its
+    status: every math page's fonts are still counted and checked."""
+
+    _status = 0
+
     def log_message(self, format: str, *args: object) -> None:
         pass
 
+    def send_response(self, code, message=None) -> None:
+        self._status = code
+        super().send_response(code, message)
+
     def end_headers(self) -> None:
-        # every page fetches every resource afresh (its fonts' answers are checked): nothing
-        # is kept in Chromium's cache between pages
-        self.send_header("Cache-Control", "no-store")
+        path = urlsplit(self.path).path
+        page = path.endswith((".html", "/")) or "." not in path.rsplit("/", 1)[-1]
+        self.send_header("Cache-Control", "no-store" if page or self._status != 200
+                         else "max-age=3600")
         super().end_headers()
 
 

@@ -7,6 +7,7 @@ A missing site is a failure, not a skip.
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
 import re
@@ -272,6 +273,99 @@ def test_browser_check_with_two_browsers_reports_what_one_does(tmp_path: Path) -
         os.environ.update(env)
     assert any(x.startswith("browser worker 2 of 2 failed") and "no-such-browser" in x
                for x in problems), problems
+
+
+def test_browser_check_caches_static_files_and_still_checks_every_pages_fonts(
+        site: Path, tmp_path: Path) -> None:
+    """The check's server lets Chromium keep static files answered 200 (MathJax, its fonts),
+    never pages or failed answers; a font taken from the cache still counts for its page, and
+    a page whose font is missing still fails."""
+    browser_check = _load_browser_check()
+    site = site.resolve()  # the symbolic links below point at it
+    page = next(p for p in sorted(site.rglob("*.html")) if "_static" not in p.parts
+                and 'class="math' in p.read_text(encoding="utf-8", errors="replace"))
+    # two copies of a math page at the site's depth, so that their links reach its _static
+    depth = len(page.relative_to(site).parts) - 1
+    here = tmp_path.joinpath(*page.relative_to(site).parts[:-1])
+    here.mkdir(parents=True, exist_ok=True)
+    top = page.relative_to(site).parts[0]
+    for item in site.iterdir():  # the site's files (_static, searchindex.js...) but the pages
+        if item.name not in (top, "index.html"):
+            (tmp_path / item.name).symlink_to(item)
+    html = page.read_text(encoding="utf-8")
+    for name in ("a.html", "b.html"):
+        (here / name).write_text(html, encoding="utf-8")
+    (tmp_path / "index.html").write_text("<html><body><p>index</p></body></html>")
+    fonts = sorted(site.glob("_static/mathjax/**/*.woff*"))
+    assert fonts and depth >= 0
+
+    served: list[tuple[str, str]] = []
+    handler = browser_check._QuietHandler
+    orig = handler.end_headers
+
+    def spy(self) -> None:
+        served.append((urlsplit(self.path).path, self._status))
+        orig(self)
+
+    handler.end_headers = spy
+    try:
+        lines: list[str] = []
+        problems = browser_check.check_site(tmp_path, log=lines.append, workers=1)
+    finally:
+        handler.end_headers = orig
+    assert not problems, problems
+    counts = [int(m.group(1)) for x in lines if x.startswith("PASS ")
+              for m in [re.search(r"mathjax-fonts (\d+)", x)] if m]
+    assert len(counts) == 2 and min(counts) > 0, lines  # both copies' fonts counted
+    woff = [p for p, _ in served if re.search(r"\.woff2?$", p)]
+    assert woff and len(woff) == len(set(woff)), woff  # each font fetched once: cached
+    assert sum(1 for p, _ in served if p.endswith(("/a.html", "/b.html"))) == 2
+
+    # the headers themselves: pages and failures never kept, a static file kept
+    import http.client
+    import threading
+
+    server = browser_check._Server(("127.0.0.1", 0), functools.partial(
+        handler, directory=str(tmp_path)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        font = fonts[0].relative_to(site).as_posix()
+        rel = here.relative_to(tmp_path).as_posix()
+        for path, want in ((f"/{rel}/a.html".replace("//", "/"), "no-store"),
+                           ("/", "no-store"), (f"/{font}", "max-age=3600"),
+                           ("/_static/no-such-file.js", "no-store")):
+            conn = http.client.HTTPConnection("127.0.0.1", server.server_address[1])
+            conn.request("GET", path)
+            resp = conn.getresponse()
+            resp.read()
+            conn.close()
+            assert resp.getheader("Cache-Control") == want, (path, resp.status)
+    finally:
+        server.shutdown()
+        server.server_close()
+
+    # a page whose font file is missing still fails, though the other fonts are cached
+    missing = tmp_path / "broken"
+    missing.mkdir()
+    for item in site.iterdir():
+        if item.name not in (top, "index.html", "_static"):
+            (missing / item.name).symlink_to(item)
+    static = missing / "_static"
+    static.mkdir()
+    for item in (site / "_static").iterdir():
+        if item.name != "mathjax":
+            (static / item.name).symlink_to(item)
+    import shutil
+
+    shutil.copytree(site / "_static" / "mathjax", static / "mathjax")
+    for f in (static / "mathjax").rglob("*.woff*"):
+        f.unlink()
+    sub = missing.joinpath(*page.relative_to(site).parts[:-1])
+    sub.mkdir(parents=True, exist_ok=True)
+    (sub / "c.html").write_text(html, encoding="utf-8")
+    (missing / "index.html").write_text("<html><body><p>index</p></body></html>")
+    problems = browser_check.check_site(missing, log=lambda _x: None, workers=1)
+    assert any("MathJax font" in x or "no MathJax woff font" in x for x in problems), problems
 
 
 def _toc_files(node) -> list[str]:
