@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
+from scipy import special
 
-from fusioncenter import _kernels, _transition_kernels, _vector_kernels, particle
+from fusioncenter import _kernels, _normal_kernels, _transition_kernels, _vector_kernels, particle
 from fusioncenter.censoring import _decisions
 
 
@@ -680,3 +682,66 @@ def test_propagate_draw_kernel_is_standard_normal_then_propagate(layout, k):
     _transition_kernels.propagate_wna(ref, 0.5, g2.standard_normal((5, 700, k)), L)
     assert np.array_equal(a, ref)
     assert np.array_equal(g1.random(4), g2.random(4))
+
+
+def _bits(a):
+    return np.ascontiguousarray(a, dtype=float).view(np.int64)
+
+
+@numba.njit
+def _ndtr_each(a, out):
+    for i in range(a.size):
+        out[i] = _normal_kernels.ndtr(a[i])
+
+
+def test_compiled_ndtr_is_scipys_bit_for_bit():
+    # every branch (erf near 0, erfc on [1, 8) and beyond 8, the underflow of exp(-x^2)), the
+    # boundaries between them and their neighbouring doubles, and the special values
+    rng = np.random.default_rng(7)
+    s2 = np.sqrt(2.0)
+    edges = np.array([s2, 8 * s2, np.sqrt(2 * 709.782712893384), 37.5, 38.5])
+    edges = np.concatenate([edges, np.nextafter(edges, 0), np.nextafter(edges, np.inf)])
+    a = np.concatenate([
+        rng.standard_normal(1_000_000) * 2, rng.standard_normal(500_000) * 15,
+        rng.uniform(-40, 40, 500_000), edges, -edges,
+        [0.0, -0.0, np.inf, -np.inf, np.nan, 5e-324, -5e-324, 1e-300, -1e-300, 1e300, -1e300]])
+    out = np.empty_like(a)
+    _ndtr_each(a, out)
+    assert np.array_equal(_bits(out), _bits(special.ndtr(a)))
+
+
+@pytest.mark.parametrize("shapes", [((50, 300), (50, 1)), ((50, 300), ()), ((7,), (7,)),
+                                    ((1, 40), (30, 1)), ((0, 5), (0, 1)),
+                                    ((0,), ())])
+def test_log_prob_inside_compiled_pass_is_the_numpy_expression(shapes):
+    # the NumPy code it replaced, operation for operation (SciPy's ndtr); tails (the careful
+    # formula), h = 0 and tiny h (the careful formula too), NaN
+    from fusioncenter.censoring import _probability_core as pc
+
+    rng = np.random.default_rng(len(shapes[0]) + shapes[0][0])
+    m = rng.standard_normal(shapes[0]) * 12
+    h = np.abs(rng.standard_normal(shapes[1])) * 3
+    if m.size:
+        m.flat[:3] = [40.0, np.nan, -0.3]
+    if h.ndim and h.size:
+        h.flat[:2] = [0.0, 1e-8]
+
+    def numpy_version(m, h):
+        m, h = np.abs(m), np.asarray(h, dtype=float)
+        p = special.ndtr(h - m)
+        a = np.subtract(-h, m)
+        p -= special.ndtr(a, out=a)
+        bad = p < pc.INSIDE_CUTOFF
+        if np.any(h < 1e-6):
+            bad |= np.broadcast_to(h, p.shape) < 1e-6
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out = np.log(p, out=p)
+        if bad.any():
+            out[bad] = pc.prob_inside(np.broadcast_to(m, p.shape)[bad],
+                                      np.broadcast_to(h, p.shape)[bad], log=True)
+        return out
+
+    with np.errstate(invalid="ignore"):
+        got = pc.log_prob_inside(m, h)
+    assert got.shape == np.broadcast_shapes(m.shape, np.shape(h))
+    assert np.array_equal(_bits(got), _bits(numpy_version(m, h)))
