@@ -745,3 +745,17 @@ def test_log_prob_inside_compiled_pass_is_the_numpy_expression(shapes):
         got = pc.log_prob_inside(m, h)
     assert got.shape == np.broadcast_shapes(m.shape, np.shape(h))
     assert np.array_equal(_bits(got), _bits(numpy_version(m, h)))
+
+
+def test_log_prob_inside_takes_broadcast_arrays_without_a_warning():
+    # numba reads the writeable flag of its arguments, which NumPy warns about for the output
+    # of np.broadcast_arrays (FutureWarning: seen in a chapter's stderr)
+    import warnings
+
+    from fusioncenter.censoring import _probability_core as pc
+
+    m, h = np.broadcast_arrays(np.linspace(-3, 3, 20)[None, :], np.full((4, 1), 1.5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = pc.log_prob_inside(m, h)
+    assert np.array_equal(_bits(got), _bits(pc.log_prob_inside(m.copy(), h.copy())))

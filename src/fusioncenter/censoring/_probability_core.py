@@ -154,6 +154,8 @@ def log_prob_inside(m, h):
         return log_prob_inside(m[None], h[None])[0]
     shape = np.broadcast_shapes(m.shape, h.shape)
     if 1 <= len(shape) <= 2:  # one compiled pass, SciPy's ndtr bit for bit (_normal_kernels)
+        h = h.view()  # read-only (numba reads the flag, and NumPy warns when it is read on
+        h.flags.writeable = False  # the output of np.broadcast_arrays unless set explicitly)
         mb, hb = np.broadcast_to(m, shape), np.broadcast_to(h, shape)
         p = np.empty(shape)
         two = shape if len(shape) == 2 else (1, shape[0])
