@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numba
 import numpy as np
 import pytest
@@ -9,6 +11,7 @@ from scipy import special
 
 from fusioncenter import _kernels, _normal_kernels, _transition_kernels, _vector_kernels, particle
 from fusioncenter.censoring import _decisions
+from fusioncenter.censoring import _probability_core as pc
 
 
 def _numpy_systematic(w, u):
@@ -716,8 +719,6 @@ def test_compiled_ndtr_is_scipys_bit_for_bit():
 def test_log_prob_inside_compiled_pass_is_the_numpy_expression(shapes):
     # the NumPy code it replaced, operation for operation (SciPy's ndtr); tails (the careful
     # formula), h = 0 and tiny h (the careful formula too), NaN
-    from fusioncenter.censoring import _probability_core as pc
-
     rng = np.random.default_rng(len(shapes[0]) + shapes[0][0])
     m = rng.standard_normal(shapes[0]) * 12
     h = np.abs(rng.standard_normal(shapes[1])) * 3
@@ -750,10 +751,6 @@ def test_log_prob_inside_compiled_pass_is_the_numpy_expression(shapes):
 def test_log_prob_inside_takes_broadcast_arrays_without_a_warning():
     # numba reads the writeable flag of its arguments, which NumPy warns about for the output
     # of np.broadcast_arrays (FutureWarning: seen in a chapter's stderr)
-    import warnings
-
-    from fusioncenter.censoring import _probability_core as pc
-
     m, h = np.broadcast_arrays(np.linspace(-3, 3, 20)[None, :], np.full((4, 1), 1.5))
     with warnings.catch_warnings():
         warnings.simplefilter("error")

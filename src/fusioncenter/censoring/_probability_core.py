@@ -154,8 +154,10 @@ def log_prob_inside(m, h):
         return log_prob_inside(m[None], h[None])[0]
     shape = np.broadcast_shapes(m.shape, h.shape)
     if 1 <= len(shape) <= 2:  # one compiled pass, SciPy's ndtr bit for bit (_normal_kernels)
-        h = h.view()  # read-only (numba reads the flag, and NumPy warns when it is read on
-        h.flags.writeable = False  # the output of np.broadcast_arrays unless set explicitly)
+        # a read-only view: numba reads the writeable flag, which NumPy warns about on the
+        # output of np.broadcast_arrays unless it was set explicitly
+        h = h.view()
+        h.flags.writeable = False
         mb, hb = np.broadcast_to(m, shape), np.broadcast_to(h, shape)
         p = np.empty(shape)
         two = shape if len(shape) == 2 else (1, shape[0])

@@ -311,7 +311,8 @@ class LinearFusionCentre:
       (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
       corrected Proposition 3 with one sensor received (:func:`region_table`) and, per trial,
       with both received (:func:`interp_rows`); CFwMD2's factor (``h`` differs per trial) uses
-      two ``ndtr`` per particle;
+      two ``ndtr`` per particle, in one compiled pass
+      (:func:`fusioncenter._normal_kernels.inside_difference`);
     * additive constants of a trial's log weights are dropped, and the covariance is computed
       (by the loop) only when CFwMD2 feeds it back.
 
