@@ -374,6 +374,27 @@ def write_status(out: Path, profile: str, rows: list[dict], times: dict) -> Path
 
 
 # ------------------------------------------------------------------------------ main
+#: The variables that set the thread count of the BLAS and OpenMP (as
+#: :data:`fusioncenter.context.THREAD_VARS`, which a pool worker sets).
+THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+
+
+def one_blas_thread(env: dict) -> None:
+    """One BLAS thread in each kernel of the lanes (a variable already set is kept).
+
+    With two lanes the cores are busy; a kernel's OpenBLAS still starts a thread per core, and
+    its threads then wait on each other: zheng2014-fig6 (paper profile) took 36.4 s in a fresh
+    build against 17.6 s when it happened to run alone, and alone it burns 33.0 s of CPU for
+    23.0 s of wall against 21.8 s for 22.6 s on one thread. The pool workers of
+    :mod:`fusioncenter.context` already run on one BLAS thread, and the executor-invariance
+    tests hold the numbers to the same bits either way.
+    """
+    for k in THREAD_VARS:
+        if not env.get(k, "").strip():
+            env[k] = "1"
+
+
 def bytecode_env(env: dict, out: Path) -> None:
     """Let the build's processes keep the bytecode of what they import.
 
@@ -448,6 +469,8 @@ def main(argv: list[str] | None = None) -> int:
     bytecode_env(env, out)
     if jobs > 1 and not env.get("FUSIONCENTER_EXECUTOR", "").strip():
         env["FUSIONCENTER_EXECUTOR"] = "serial"  # the lanes use the cores (module docstring)
+    if jobs > 1:
+        one_blas_thread(env)
     times: dict = {"jobs": jobs}
 
     # the library's wheel, which the site carries (_wheels/: the downloaded notebooks' install

@@ -81,7 +81,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
-from build_book import bytecode_env  # noqa: E402
+from build_book import bytecode_env, one_blas_thread  # noqa: E402
 from kernel_fork import KERNEL_NAME  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -309,6 +309,10 @@ def main(argv: list[str] | None = None) -> int:
     pdf.unlink(missing_ok=True)  # the pdf tests never read an earlier run's
     t0 = time.perf_counter()
     parallel = os.environ.get("FUSIONCENTER_TEST_LANES", "2") != "1"
+    if parallel:
+        # two stages keep both cores busy: each process's BLAS on one thread (as the book
+        # build's lanes: build_book.one_blas_thread), not a thread per core waiting on the other
+        one_blas_thread(os.environ)
 
     # the registry results of this run, shared by nbval's kernels (and the site build's, for
     # a chapter it executes itself); the chapters as nbval executed them, for the site build
