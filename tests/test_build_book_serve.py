@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 import build_book  # noqa: E402
@@ -75,25 +77,38 @@ def test_a_kernel_that_died_at_start_is_retried_and_a_chapter_error_is_not(tmp_p
     src = _chapter(tmp_path / "c.md", "x = 1")
     calls: list[int] = []
 
-    def fake(nb, *, fail, ran=False, **_):
+    def fake(nb, *, fail, ran=False, raises=False, **_):
         calls.append(1)
         if ran:
             next(c for c in nb.cells if c.cell_type == "code")["execution_count"] = 1
         err = fail(len(calls))
+        if raises and err is not None:  # as jupyter-cache does when the kernel's start fails
+            raise err
         return utils.ExecutionResult(nb, str(tmp_path), 0.1, err, err and repr(err))
 
     died = RuntimeError("Kernel died before replying to kernel_info")
-    cases = [  # (what the n-th execution raises, has a cell run, executions expected)
+    retries = build_book.KERNEL_START_RETRIES
+    cases = [  # (what the n-th execution fails with, has a cell run, executions expected)
         (lambda n: died if n == 1 else None, False, 2),
-        (lambda n: died, False, 1 + build_book.KERNEL_START_RETRIES),
+        (lambda n: died, False, 1 + retries),
         (lambda n: died, True, 1),
         (lambda n: ValueError("chapter fails"), False, 1),
     ]
-    for fail, ran, expected in cases:
-        calls.clear()
-        monkeypatch.setattr(utils, "single_nb_execution",
-                            lambda nb, fail=fail, ran=ran, **kw: fake(nb, fail=fail, ran=ran))
-        info = build_book.execute_one(src, tmp_path / "c.ipynb")
-        assert len(calls) == expected
-        assert nbformat.read(tmp_path / "c.ipynb", as_version=4).cells
-        assert (info["error"] is None) == (fail(expected) is None)
+    for raises in (False, True):
+        for fail, ran, expected in cases:
+            calls.clear()
+            monkeypatch.setattr(utils, "single_nb_execution",
+                                lambda nb, fail=fail, ran=ran, raises=raises, **kw:
+                                fake(nb, fail=fail, ran=ran, raises=raises))
+            dest = tmp_path / "c.ipynb"
+            dest.unlink(missing_ok=True)
+            err = fail(expected)
+            if raises and err is not None:  # the last failure reaches the lane (_serve_lines)
+                with pytest.raises(type(err)):
+                    build_book.execute_one(src, dest)
+                assert len(calls) == expected
+                continue
+            info = build_book.execute_one(src, dest)
+            assert len(calls) == expected
+            assert nbformat.read(dest, as_version=4).cells
+            assert (info["error"] is None) == (err is None)

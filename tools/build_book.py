@@ -58,6 +58,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from types import SimpleNamespace
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
@@ -167,10 +168,19 @@ def execute_one(src: Path, dest: Path, kernel_name: str | None = None) -> dict:
     extra = {"kernel_name": kernel_name} if kernel_name else {}
     for attempt in range(1 + KERNEL_START_RETRIES):
         nb = _read(src)
-        res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT, allow_errors=False,
-                                  meta_override=True, **extra)
-        if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
-            break
+        try:
+            res = single_nb_execution(nb, cwd=str(src.parent), timeout=TIMEOUT,
+                                      allow_errors=False, meta_override=True, **extra)
+        except RuntimeError as exc:
+            # jupyter-cache passes on what the kernel's start raises (it keeps only the cells'
+            # errors): the same lost race, seen in a fresh paper build ("Address already in
+            # use", then "Kernel died before replying to kernel_info")
+            res = SimpleNamespace(err=exc)
+            if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
+                raise
+        else:
+            if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
+                break
         print(f"build_book: {src.name}: the kernel died before it answered ({res.err}); "
               "starting a new one", file=sys.stderr, flush=True)
     nbformat.write(nb, str(dest))
