@@ -58,7 +58,6 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from types import SimpleNamespace
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import procs  # noqa: E402
@@ -151,9 +150,9 @@ def _read(path: Path):
 KERNEL_START_RETRIES = 2
 
 
-def _kernel_never_started(res, nb) -> bool:
-    """Did the execution fail before the kernel ran any cell (a failed kernel start)?"""
-    return (isinstance(res.err, RuntimeError) and "Kernel died before replying" in str(res.err)
+def _kernel_never_started(err, nb) -> bool:
+    """Did the execution fail (``err``) before the kernel ran any cell (a failed start)?"""
+    return (isinstance(err, RuntimeError) and "Kernel died before replying" in str(err)
             and not any(c.get("execution_count") for c in nb.cells if c.cell_type == "code"))
 
 
@@ -175,13 +174,14 @@ def execute_one(src: Path, dest: Path, kernel_name: str | None = None) -> dict:
             # jupyter-cache passes on what the kernel's start raises (it keeps only the cells'
             # errors): the same lost race, seen in a fresh paper build ("Address already in
             # use", then "Kernel died before replying to kernel_info")
-            res = SimpleNamespace(err=exc)
-            if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
+            err = exc
+            if not _kernel_never_started(err, nb) or attempt == KERNEL_START_RETRIES:
                 raise
         else:
-            if not _kernel_never_started(res, nb) or attempt == KERNEL_START_RETRIES:
+            err = res.err
+            if not _kernel_never_started(err, nb) or attempt == KERNEL_START_RETRIES:
                 break
-        print(f"build_book: {src.name}: the kernel died before it answered ({res.err}); "
+        print(f"build_book: {src.name}: the kernel died before it answered ({err}); "
               "starting a new one", file=sys.stderr, flush=True)
     nbformat.write(nb, str(dest))
     return {"seconds": res.time, "error": type(res.err).__name__ if res.err else None,
@@ -384,12 +384,6 @@ def write_status(out: Path, profile: str, rows: list[dict], times: dict) -> Path
 
 
 # ------------------------------------------------------------------------------ main
-#: The variables that set the thread count of the BLAS and OpenMP (as
-#: :data:`fusioncenter.context.THREAD_VARS`, which a pool worker sets).
-THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
-               "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
-
-
 def one_blas_thread(env: dict) -> None:
     """One BLAS thread in each kernel of the lanes (a variable already set is kept).
 
@@ -397,9 +391,13 @@ def one_blas_thread(env: dict) -> None:
     its threads then wait on each other: zheng2014-fig6 (paper profile) took 36.4 s in a fresh
     build against 17.6 s when it happened to run alone, and alone it burns 33.0 s of CPU for
     23.0 s of wall against 21.8 s for 22.6 s on one thread. The pool workers of
-    :mod:`fusioncenter.context` already run on one BLAS thread, and the executor-invariance
-    tests hold the numbers to the same bits either way.
+    :mod:`fusioncenter.context` already run on one BLAS thread (these variables:
+    :data:`fusioncenter.context.THREAD_VARS`). A paper build's registry data are the same bits
+    either way, except SciPy SLSQP's gap to the closed form in leong2011-fig3a/3b/4a/4b
+    (``solver_rel_gap``, about 1e-14), whose last bits depend on the thread count.
     """
+    from fusioncenter.context import THREAD_VARS
+
     for k in THREAD_VARS:
         if not env.get(k, "").strip():
             env[k] = "1"
