@@ -68,6 +68,10 @@ PRELOAD = [
     "fusioncenter.power", "fusioncenter.synthesis", "fusioncenter.particle",
     "fusioncenter.riccati", "fusioncenter.kalman", "fusioncenter.models", "matplotlib.pyplot",
     "fusioncenter.plotting", "fusioncenter.book",
+    # what a chapter's first glue() imports (fusioncenter.glue calls MyST-NB's): nbformat and
+    # jsonschema, whose format checkers build a grammar at import; 1.8 s in every chapter that
+    # glues a number (23 of 29), 41 s of the nbval shards' CPU in a fresh make test
+    "myst_nb.ext.glue",
 ]
 
 
