@@ -487,16 +487,21 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
         page.on("response", on_response)
         page.on("requestfailed", on_requestfailed)
 
+        printed = False  # the last page was printed (and left in print media)
         for path in pages:
             rel = path.relative_to(html_dir).as_posix()
             res = PageResult(rel)
             parser = _MathCounter()
             parser.feed(path.read_text(encoding="utf-8", errors="replace"))
             res.math_expected = parser.count
-            if page.viewport_size != VIEWPORT:
+            if page.viewport_size != VIEWPORT or printed:
                 # every page loads at 1280 px (the theme lays a page loaded at 400 px out
-                # differently at 1280 px); resized on a blank page, which costs nothing
+                # differently at 1280 px) and on screen (the printer leaves a page in print
+                # media); resized on a blank page, which costs nothing
                 page.goto("about:blank")
+                if printed:
+                    page.emulate_media(media="null")
+                    printed = False
                 page.set_viewport_size(VIEWPORT)
             current["page"] = res
             fonts.clear()
@@ -531,6 +536,7 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
             doc = rel.removesuffix(".html")
             if printer is not None and parser.refresh_target is None and printer.wants(doc):
                 try:
+                    printed = True
                     printer.add(page, doc)
                 except PlaywrightError as exc:
                     res.problems.append(f"page {rel}: not printed: "
