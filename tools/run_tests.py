@@ -46,7 +46,8 @@ executed notebooks: nothing from an earlier run or another source tree is read).
 A skipped test in the site and pdf-tests stages counts as a failure: the browser check may not
 be skipped.
 
-The stages after ruff run on two workers (one per core of the 2-core machine), each worker
+The lint stages (1.) run beside the others, one after the other in a third thread (5 s); the
+stages after them run on two workers (one per core of the 2-core machine), each worker
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both and the browser check (with the PDF) after it, while the
 library stage takes the other worker (then, with ``--with``, the 3.12 tests; the student's
@@ -362,11 +363,32 @@ def main(argv: list[str] | None = None) -> int:
                                    log=parallel), after=("site build",)),
     ]
     jobs = [j for j in jobs if j.name not in OPTIONAL or j.name in extra]
-    stages = [run("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
-                           "book/_ext"]),
-              run("chapters", [PY, "tools/lint_chapters.py"]),
-              run("index", [PY, "-m", "fusioncenter.figures._index", "--check"])]
-    stages += schedule(jobs, 2 if parallel else 1)
+    lint = [("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
+                      "book/_ext"]),
+            ("chapters", [PY, "tools/lint_chapters.py"]),
+            ("index", [PY, "-m", "fusioncenter.figures._index", "--check"])]
+    if parallel:
+        # the lint (5 s on one core) beside the nbval shards rather than before them, with a
+        # core idle: a third process for 5 s, and the shards start at once
+        linted: list[Stage] = []
+        failure: list[BaseException] = []
+
+        def lint_all() -> None:
+            try:
+                linted.extend(run(name, cmd, log=True) for name, cmd in lint)
+            except BaseException as exc:  # re-raised below: a crashed stage fails the run
+                failure.append(exc)
+
+        thread = threading.Thread(target=lint_all)
+        thread.start()
+        stages = schedule(jobs, 2)
+        thread.join()
+        if failure:
+            raise failure[0]
+        stages = linted + stages
+    else:
+        stages = [run(name, cmd) for name, cmd in lint]
+        stages += schedule(jobs, 1)
     total = time.perf_counter() - t0
     print("\n===== make test summary")
     for s in stages:
