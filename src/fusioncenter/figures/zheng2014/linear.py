@@ -60,6 +60,7 @@ from fusioncenter.figures.zheng2014.common import (
     transmissions_plot,
     z_claim_ordered,
 )
+from fusioncenter.figures.zheng2014.contrasts import z_score
 from fusioncenter.figures.zheng2014.runs import kept_run
 from fusioncenter.profile import by_profile
 
@@ -270,7 +271,8 @@ def compute_table1(profile: str, seed: int, **over) -> dict:
         runs.append([qa.mean(), qb.mean()])
         runs_se.append([qa.std(ddof=1) / math.sqrt(qa.size), qb.std(ddof=1) / math.sqrt(qb.size)])
         dd = qb - qa
-        runs_z.append(dd.mean() / (dd.std(ddof=1) / math.sqrt(dd.size)))
+        # 0 when the runs are identical (few trials, or no silent pair in either)
+        runs_z.append(z_score(float(dd.mean()), float(dd.std(ddof=1) / math.sqrt(dd.size))))
     return {
         "p_none": np.array(none), "p_none_independent": (1 - l / N) ** N,
         "silent_pairs": np.array(runs), "silent_pairs_stderr": np.array(runs_se),
