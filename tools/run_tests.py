@@ -13,19 +13,20 @@ Stages (all run; the exit code is 1 if any failed):
                each kernel forked from a process that has imported the chapters' libraries
                (tools/kernel_fork.py; a kernel whose environment differs starts anew)
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
-4. site        pytest on the built site: no external resources, headless-Chromium check (two
-               browsers side by side: tools/browser_check.py); the browser check also prints
-               the site as one PDF (tools/pdf_book.py's Printer) from the pages it has loaded
-               and checked
+4. site        the headless-Chromium check of the built site (two browsers side by side:
+               tools/browser_check.py, :data:`BROWSER_CHECK`), which also prints the site as
+               one PDF (tools/pdf_book.py's Printer) from the pages it has loaded and checked
 5. library     pytest on the library and the repository (not the site, not `slow`)
-6. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
+6. site pages  pytest on the built site but the browser check and the PDF: no external
+               resources, the pages as a reader and JupyterLab show them, the downloads
+7. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
 
 and, with ``--with`` (``make test WITH="pythons student"``, what ``.ci/run`` and the GitHub
 workflow run), in the same schedule:
 
-7. pythons     the library's tests again on Python 3.12, from the installed wheel, but those
+8. pythons     the library's tests again on Python 3.12, from the installed wheel, but those
                marked ``heavy`` (``make test-pythons`` runs them all on 3.12 and 3.13)
-8. student     three downloaded notebooks run offline in a fresh Python 3.12
+9. student     three downloaded notebooks run offline in a fresh Python 3.12
                (tools/student_path.py; alone: ``make test-student``)
 
 Without ``--with``, every test in tests/ and every reference notebook runs, on the book's
@@ -43,21 +44,23 @@ results are shared by the kernels through the run's compute cache
 (``FUSIONCENTER_COMPUTE_CACHE``, a folder emptied at the start of every run, as is the folder of
 executed notebooks: nothing from an earlier run or another source tree is read).
 
-A skipped test in the site and pdf-tests stages counts as a failure: the browser check may not
-be skipped.
+A skipped test in the site, site-pages and pdf-tests stages counts as a failure: the browser
+check may not be skipped.
 
 The lint stages (1.) run beside the others, one after the other in a third thread (5 s); the
 stages after them run on two workers (one per core of the 2-core machine), each worker
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both and the browser check (with the PDF) after it, while the
-library stage takes the other worker (then, with ``--with``, the 3.12 tests; the student's
-path fills the end). The library stage's registry-entry tests read the entries from the run's
-compute cache too (``FUSIONCENTER_TEST_SHARED_CACHE``: tests/figure_helpers.py), instead of
-computing them again. Output goes to ``_build/test-reports/<stage>.log`` and is printed whole
-when the stage ends; each stage reports its wall and CPU seconds (the CPU of its
-process tree as ``wait4`` counts it: a process orphaned before it ends is not counted, such as
-Chromium's renderers when the browser closes, so the site stage counts too little; the forked
-kernels are reaped by their warm process and count).
+library stage takes the other worker (then, with ``--with``, the 3.12 tests); the site pages,
+the pdf tests (and the student's path) go to whichever worker is free first, so that neither
+waits idle for the other at the end. The library stage's registry-entry tests read the
+entries from the run's compute cache too (``FUSIONCENTER_TEST_SHARED_CACHE``:
+tests/figure_helpers.py), instead of computing them again. Output goes to
+``_build/test-reports/<stage>.log`` and is printed whole when the stage ends; each stage
+reports its wall and CPU seconds (the CPU of its process tree as ``wait4`` counts it: a
+process orphaned before it ends is not counted, such as Chromium's renderers when the browser
+closes, so the site stage counts too little; the forked kernels are reaped by their warm
+process and count).
 ``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order, nbval in one
 shard.
 
@@ -232,6 +235,9 @@ SHARD_1_SHARE = 0.5
 #: 0.56 left the library worker ending about 40 s after the other (478 s against 439 s, shards
 #: 119 and 106 s): 0.62 (about 162 and 97 s of the estimates below) moves about 20 s across.
 SHARD_1_SHARE_WITH = 0.62
+#: The browser check, which also prints the PDF: the site stage. The site's other tests are the
+#: site pages stage, which can fill a worker's end while the other still runs a long stage.
+BROWSER_CHECK = "tests/site/test_site.py::test_browser_check_of_every_page"
 #: Stages that run only when asked for (``--with``): CI asks for both.
 OPTIONAL = ("pythons", "student")
 
@@ -341,8 +347,7 @@ def main(argv: list[str] | None = None) -> int:
                            "--compute-cache", str(cache), "--executed", str(executed)],
             log=parallel), after=tuple(f"nbval {k}" for k in range(1, len(shards) + 1))),
         Job("site", lambda: run(
-            "site", [*pytest, "tests/site", "-m", "site", "--ignore=tests/site/test_pdf.py",
-                     f"--junitxml={REPORTS / 'site.xml'}"],
+            "site", [*pytest, BROWSER_CHECK, "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
             junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site),
                                               "FUSIONCENTER_PDF_OUT": str(pdf)},
             skips_fail=True, log=parallel), after=("site build",)),
@@ -354,6 +359,12 @@ def main(argv: list[str] | None = None) -> int:
                                                  str(cache)}, log=parallel)),
         Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
                                    log=parallel)),
+        Job("site pages", lambda: run(
+            "site pages", [*pytest, "tests/site", "-m", "site", "--ignore=tests/site/test_pdf.py",
+                           f"--deselect={BROWSER_CHECK}",
+                           f"--junitxml={REPORTS / 'site-pages.xml'}"],
+            junit=REPORTS / "site-pages.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
+            skips_fail=True, log=parallel), after=("site build",)),
         Job("pdf tests", lambda: run(
             "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
                           f"--junitxml={REPORTS / 'pdf-tests.xml'}"],

@@ -2,7 +2,8 @@
 
 Checks of the built site (``$FUSIONCENTER_SITE``, default the fast build), of the book's sources
 and of the detectors themselves (so that a check that cannot fail is noticed). The clipped-content
-measurement runs in ``tools/browser_check.py`` (``test_site.py::test_browser_check``).
+measurement runs in ``tools/browser_check.py``
+(``test_site.py::test_browser_check_of_every_page``).
 """
 
 from __future__ import annotations

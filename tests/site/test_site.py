@@ -59,8 +59,8 @@ def site() -> Path:
 #     (http://www.w3.org/...), licence/help links and CDN defaults behind configuration that are
 #     never fetched by this site (e.g. MathJax's latest.js CDN table, speech-rule-engine's
 #     default mathmaps URL, sphinx-thebe's THEBE_JS_URL, only used when thebe is launched, which
-#     this book disables). What is really fetched is checked at run time by test_browser_check,
-#     which aborts and reports every non-loopback request.
+#     this book disables). What is really fetched is checked at run time by
+#     test_browser_check_of_every_page, which aborts and reports every non-loopback request.
 # --------------------------------------------------------------------------------------------
 
 REMOTE = r"(?:https?:)?//[A-Za-z0-9][A-Za-z0-9.-]*\.[A-Za-z]{2,}"
@@ -215,7 +215,7 @@ def _load_browser_check():
 PDF_OUT = "FUSIONCENTER_PDF_OUT"
 
 
-def test_browser_check(site: Path, capsys) -> None:
+def test_browser_check_of_every_page(site: Path, capsys) -> None:
     browser_check = _load_browser_check()
     lines: list[str] = []
     printer = None
