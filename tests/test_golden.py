@@ -81,7 +81,7 @@ def test_nbval_fails_on_a_changed_output(tmp_path):
     nbformat.write(nb, path)
     proc = subprocess.run(
         [sys.executable, "-m", "pytest", "--nbval", "--nbval-current-env", "-q",
-         "-p", "no:cacheprovider", str(path)],
+         "-p", "no:cacheprovider", "-p", "no:hypothesispytest", "-p", "no:anyio", str(path)],
         capture_output=True, text=True, cwd=tmp_path, timeout=300,
     )
     assert proc.returncode != 0, proc.stdout

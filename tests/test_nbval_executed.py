@@ -40,6 +40,7 @@ def test_kept_executions_are_adopted_only_for_the_same_code(tmp_path):
     env = {**os.environ, "FUSIONCENTER_NBVAL_EXECUTED": str(out),
            "FUSIONCENTER_PROFILE": "fast"}
     proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q",
+                           "-p", "no:hypothesispytest", "-p", "no:anyio",
                            "--nbval-lax", "--nbval-current-env", str(golden)],
                           cwd=tmp_path, env=env, capture_output=True, text=True)
     assert proc.returncode == 1, proc.stdout[-2000:]  # the failing notebook fails

@@ -310,7 +310,12 @@ def main(argv: list[str] | None = None) -> int:
     # set, as on this machine, each of them compiled NumPy, SciPy, SymPy... again
     bytecode_env(os.environ, ROOT)
     fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
-    pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider"]
+    # without the pytest plugins a stage does not use: loading them cost 4.5 s of CPU in every
+    # pytest process (nbval imports nbformat, whose jsonschema builds rfc3987_syntax's 38
+    # parsers; hypothesis's plugin; anyio's), 0.5 s without (``--co`` of tests/site/test_pdf.py)
+    pytest = [PY, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:anyio"]
+    lean = [*pytest, "-p", "no:hypothesispytest"]  # no test of these stages uses hypothesis
+    site_pytest = [*lean, "-p", "no:nbval"]
     site = ROOT / "_build" / "fast" / "_build" / "html"
     pdf = site.parent / "pdf" / "book.pdf"  # printed by the browser check (tests/site)
     pdf.unlink(missing_ok=True)  # the pdf tests never read an earlier run's
@@ -334,7 +339,7 @@ def main(argv: list[str] | None = None) -> int:
     def nbval(k: int, notebooks: list[str]) -> Job:
         name, xml = f"nbval {k}", REPORTS / f"nbval-{k}.xml"
         return Job(name, lambda: run(
-            name, [*pytest, "--nbval", "--nbval-kernel-name", KERNEL_NAME, "--nbval-sanitize-with",
+            name, [*lean, "--nbval", "--nbval-kernel-name", KERNEL_NAME, "--nbval-sanitize-with",
                    "tests/golden/sanitize.cfg", *notebooks, f"--junitxml={xml}"],
             junit=xml, env=shared, log=parallel))
 
@@ -347,7 +352,8 @@ def main(argv: list[str] | None = None) -> int:
                            "--compute-cache", str(cache), "--executed", str(executed)],
             log=parallel), after=tuple(f"nbval {k}" for k in range(1, len(shards) + 1))),
         Job("site", lambda: run(
-            "site", [*pytest, BROWSER_CHECK, "-m", "site", f"--junitxml={REPORTS / 'site.xml'}"],
+            "site", [*site_pytest, BROWSER_CHECK, "-m", "site",
+                     f"--junitxml={REPORTS / 'site.xml'}"],
             junit=REPORTS / "site.xml", env={**fast, "FUSIONCENTER_SITE": str(site),
                                               "FUSIONCENTER_PDF_OUT": str(pdf)},
             skips_fail=True, log=parallel), after=("site build",)),
@@ -360,13 +366,13 @@ def main(argv: list[str] | None = None) -> int:
         Job("pythons", lambda: run("pythons", [PY, "tools/test_pythons.py", "--quick", "3.12"],
                                    log=parallel)),
         Job("site pages", lambda: run(
-            "site pages", [*pytest, "tests/site", "-m", "site", "--ignore=tests/site/test_pdf.py",
-                           f"--deselect={BROWSER_CHECK}",
+            "site pages", [*site_pytest, "tests/site", "-m", "site",
+                           "--ignore=tests/site/test_pdf.py", f"--deselect={BROWSER_CHECK}",
                            f"--junitxml={REPORTS / 'site-pages.xml'}"],
             junit=REPORTS / "site-pages.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
             skips_fail=True, log=parallel), after=("site build",)),
         Job("pdf tests", lambda: run(
-            "pdf tests", [*pytest, "tests/site/test_pdf.py", "-m", "site",
+            "pdf tests", [*site_pytest, "tests/site/test_pdf.py", "-m", "site",
                           f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
             junit=REPORTS / "pdf-tests.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
             skips_fail=True, log=parallel), after=("site",)),
