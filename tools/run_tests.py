@@ -223,9 +223,10 @@ DEFAULT_SECONDS = 1
 #: entries are in the run's compute cache (or being computed, under its lock) by then.
 GATHERING = ("book/zheng2014/reading",)
 #: With two lanes, shard 1's share of the execution time. The worker whose shard ends first
-#: takes the library stage (226 s in a fresh ``make test``); the other waits for both shards,
-#: then takes the site build, the browser check with the PDF and the pdf tests (55 + 177 + 8 s).
-#: That chain is the longer one and it starts after the later shard: equal shards.
+#: takes the library stage (225 s in a fresh ``make test``); the other waits for both shards,
+#: then takes the site build and the browser check with the PDF (50 + 137 s), then the site
+#: pages (41 s); the pdf tests (11 s) go to the library worker when it ends first. That chain
+#: starts after the later shard: equal shards (both workers ended within 7 s of each other).
 SHARD_1_SHARE = 0.5
 #: The same with ``--with pythons,student``: the library worker then also takes the 3.12 tests
 #: (344 s with the library); the other the site chain and the student's path (312 s). Equal
@@ -234,6 +235,7 @@ SHARD_1_SHARE = 0.5
 #: browser check keeps the site's static files cached (199 s for the site stage, was 215 s),
 #: 0.56 left the library worker ending about 40 s after the other (478 s against 439 s, shards
 #: 119 and 106 s): 0.62 (about 162 and 97 s of the estimates below) moves about 20 s across.
+#: With the site pages a stage of their own, both workers still ended together (446 s).
 SHARD_1_SHARE_WITH = 0.62
 #: The browser check, which also prints the PDF: the site stage. The site's other tests are the
 #: site pages stage, which can fill a worker's end while the other still runs a long stage.
