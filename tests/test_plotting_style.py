@@ -110,7 +110,7 @@ def test_registry_figure_uses_the_visual_language(entry_id):
     fig = figures.get(entry_id).run_plot(cached_data(entry_id))
     try:
         assert styled_violations(fig) == []
-        png, facts = plotting.render(fig)  # lays the figure out as the page shows it
+        facts = plotting.layout_facts(fig)  # laid out as render() lays it out for the page
         renderer = fig.canvas.get_renderer()
         for ax in fig.get_axes():
             leg = ax.get_legend()
@@ -126,7 +126,7 @@ def test_registry_figure_uses_the_visual_language(entry_id):
         assert facts["min_font_pt"] * facts["dpi"] / 72 * scale >= 11, facts
         assert plotting.describe(fig).count("Panel") == facts["panels"]
         assert panel_letters(fig) is not None, f"{entry_id}: panels without their own letter"
-        assert unreadable_log_ticks(fig, draw=False) == [], entry_id  # render laid it out
+        assert unreadable_log_ticks(fig, draw=False) == [], entry_id  # laid out above
     finally:
         plt.close(fig)
 
@@ -146,7 +146,7 @@ def unreadable_log_ticks(fig, draw: bool = True) -> list[str]:
     """Tick labels of log axes written as ``k×10^n`` (matplotlib's minor labels on an axis of
     less than a decade): a reader wants plain numbers or powers of ten. The labels are set by
     a layout pass (``draw``; nothing is rasterised); ``draw=False`` reads those of the figure's
-    last drawing (after :func:`plotting.render`, a second pass cost 0.2 s a figure)."""
+    last layout (after :func:`plotting.layout_facts`, a second pass cost 0.2 s a figure)."""
     if draw:
         fig.draw_without_rendering()
     bad = []
@@ -158,6 +158,28 @@ def unreadable_log_ticks(fig, draw: bool = True) -> list[str]:
                 if "\\times" in tick.get_text():
                     bad.append(f"{ax.get_ylabel() or ax.get_xlabel()}: {tick.get_text()}")
     return bad
+
+
+def test_layout_facts_are_renders_without_the_png():
+    """What the registry-figure test reads instead of rendering each figure (0.3 s less)."""
+    fig, (a, b) = plotting.subplots(2, 1, stack=True)
+    a.plot([1, 2], [0.8, 3.1], label="x")
+    b.plot([1, 2], [0.8, 3.1])
+    for ax in (a, b):
+        ax.set(xlabel="x (-)", ylabel="y (-)")
+    a.set_title("a long title of the first panel")
+    a.legend()
+    plotting.finish(fig)
+    laid = plotting.layout_facts(fig)
+    png, facts = plotting.render(fig)
+    plt.close(fig)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    sizes = ("width_px", "height_px")
+    assert {k: v for k, v in laid.items() if k not in sizes} == \
+        {k: v for k, v in facts.items() if k not in sizes}
+    assert laid["panels"] == 2 and laid["columns"] == 1
+    for k in sizes:
+        assert laid[k] == pytest.approx(facts[k], rel=0.03)
 
 
 def test_panels_get_their_own_letters_and_log_ticks_read_plainly():

@@ -34,7 +34,8 @@ from cycler import cycler
 
 __all__ = ["OKABE_ITO", "MARKERS", "RC", "SCHEMES", "QUANTITIES", "MIN_FONT_PT", "SAVE_DPI",
            "style", "use_style", "subplots", "finish", "errorband", "errorbar_log", "log_axis",
-           "letter_panels", "panel_heading", "look", "classify", "render", "describe"]
+           "letter_panels", "panel_heading", "look", "classify", "render", "layout_facts",
+           "describe"]
 
 OKABE_ITO = [
     "#0072B2",  # blue
@@ -589,30 +590,54 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
         ``columns`` (panels side by side, at most), ``panel_fraction`` (narrowest data area of
         a panel as a fraction of the image width), ``min_font_pt`` (smallest text).
     """
+    facts = layout_facts(fig, dpi=dpi)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=_PAD_IN)
+    png = buf.getvalue()
+    import struct
+
+    w, h = struct.unpack(">II", png[16:24])
+    return png, {**facts, "width_px": int(w), "height_px": int(h)}
+
+
+#: Padding around the tight bounding box of a saved figure, inches (matplotlib's default).
+_PAD_IN = 0.1
+
+
+def layout_facts(fig, *, dpi: int = SAVE_DPI) -> dict:
+    """The facts of :func:`render` from a layout pass alone, nothing rasterised (a test of a
+    figure's legibility: 0.3 s a registry figure less than :func:`render`).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; it is laid out once (``draw_without_rendering``).
+    dpi : int, default 200
+        The resolution the sizes in pixels are for.
+
+    Returns
+    -------
+    dict
+        :func:`render`'s facts; ``width_px`` and ``height_px`` are those of the padded tight
+        bounding box laid out at the figure's own dpi, scaled to ``dpi``: within 3 % of the
+        PNG's (on the 39 registry figures), whose text is laid out at ``dpi``.
+    """
     fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     bbox = fig.get_tightbbox(renderer)
-    pad = 0.1  # inches, matplotlib's default pad_inches
-    width_in = bbox.width + 2 * pad
+    width_in, height_in = bbox.width + 2 * _PAD_IN, bbox.height + 2 * _PAD_IN
     axes = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
     fractions = [ax.get_window_extent(renderer).width / fig.dpi / width_in for ax in axes]
     rows = {}
     for ax in axes:
         y0 = round(ax.get_position().y0, 3)
         rows[y0] = rows.get(y0, 0) + 1
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=pad)
-    png = buf.getvalue()
-    import struct
-
-    w, h = struct.unpack(">II", png[16:24])
-    facts = {
-        "width_px": int(w), "height_px": int(h), "dpi": dpi, "panels": len(axes),
-        "columns": max(rows.values(), default=1),
+    return {
+        "width_px": round(width_in * dpi), "height_px": round(height_in * dpi), "dpi": dpi,
+        "panels": len(axes), "columns": max(rows.values(), default=1),
         "panel_fraction": round(float(min(fractions, default=1.0)), 4),
         "min_font_pt": round(float(min((t.get_fontsize() for t in _texts(fig)), default=0.0)), 2),
     }
-    return png, facts
 
 
 _GREEK = dict(zip(
