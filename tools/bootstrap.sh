@@ -28,7 +28,8 @@ lab_settings() {
 }
 # the version is part of the stamp: the editable install's metadata carries it, and the chapters'
 # first cell compares it with the book's
-stamp_id=$(cat requirements/lock.txt pyproject.toml src/fusioncenter/__init__.py | sha256sum | cut -c1-16)
+stamp_id=$(cat requirements/lock.txt requirements/overrides.txt pyproject.toml src/fusioncenter/__init__.py \
+  | sha256sum | cut -c1-16)
 stamp="$VENV/.installed-$stamp_id"
 if [ -f "$stamp" ]; then
   [ -x "$VENV/bin/python" ] && lab_settings
@@ -41,7 +42,7 @@ echo "bootstrap: installing the environment into $VENV from requirements/lock.tx
 pip_q=("$VENV/bin/python" -m pip install --quiet --disable-pip-version-check)
 if "${pip_q[@]}" "uv==$UV_VERSION" >/dev/null 2>&1 && [ -x "$VENV/bin/uv" ]; then
   uv_q=("$VENV/bin/uv" pip install --quiet --python "$VENV/bin/python")
-  "${uv_q[@]}" -r requirements/lock.txt
+  "${uv_q[@]}" -r requirements/lock.txt --override requirements/overrides.txt
   "${uv_q[@]}" --no-deps -e .
 else
   echo "bootstrap: uv $UV_VERSION not available; installing with pip" >&2

@@ -25,7 +25,8 @@ paper build on 2 cores: 7:32 with the paper profile's ``processes`` default, 6:4
 ``serial``, bootstrap included); with one lane, the library's default.
 
 jupyter-cache keys a notebook's cached outputs on its cell sources only, so a change to the
-library (``src/``), to the pinned environment (``requirements/lock.txt``), to the configuration,
+library (``src/``), to the pinned environment (``requirements/lock.txt`` and its uv overrides,
+``requirements/overrides.txt``), to the configuration,
 to the local Sphinx extensions (``book/_ext``), to this tool or to the profile would otherwise
 leave old outputs on the site. Each output folder therefore records a fingerprint of those
 inputs, written only after a successful build; when it differs or is missing (a failed or an
@@ -68,8 +69,9 @@ OUTPUTS = {"paper": ROOT, "fast": ROOT / "_build" / "fast"}
 #: The student edition (book/_ext/student_edition.py) builds apart, so it never overwrites the
 #: instructor's site nor shares its execution cache key.
 STUDENT_OUTPUTS = {"paper": ROOT / "_build" / "student", "fast": ROOT / "_build" / "fast-student"}
-FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "pyproject.toml", "_config.yml",
-                      "book/_ext", "tools/build_book.py", "tools/site_wheel.py"]
+FINGERPRINT_INPUTS = ["src", "requirements/lock.txt", "requirements/overrides.txt",
+                      "pyproject.toml", "_config.yml", "book/_ext", "tools/build_book.py",
+                      "tools/site_wheel.py"]
 STAMP = ".fusioncenter-fingerprint"
 STATUS = "execution-status.json"
 TIMEOUT = 1800  # as _config.yml execute.timeout
