@@ -27,10 +27,11 @@ paper build on 2 cores: 7:32 with the paper profile's ``processes`` default, 6:4
 jupyter-cache keys a notebook's cached outputs on its cell sources only, so a change to the
 library (``src/``), to the pinned environment (``requirements/lock.txt`` and its uv overrides,
 ``requirements/overrides.txt``), to the configuration, to the local Sphinx extensions
-(``book/_ext``), to this tool or to the profile would otherwise leave old outputs on the site. Each output folder therefore records a fingerprint of those
-inputs, written only after a successful build; when it differs or is missing (a failed or an
-interrupted build), the folder's whole ``_build`` (HTML, doctrees, the execution and compute
-caches) is removed first and everything is executed again.
+(``book/_ext``), to this tool or to the profile would otherwise leave old outputs on the site.
+Each output folder therefore records a fingerprint of those inputs, written only after a
+successful build; when it differs or is missing (a failed or an interrupted build), the folder's
+whole ``_build`` (HTML, doctrees, the execution and compute caches) is removed first and
+everything is executed again.
 
 The library's wheel is built beside the execution stage and put under the site as
 ``_wheels/fusioncenter-<version>-py3-none-any.whl`` (tools/site_wheel.py): deploying the site is
