@@ -120,6 +120,8 @@ _QUANTITY_PATTERNS = [
 MIN_FONT_PT = 8.0
 #: Resolution of the figures the book saves (a 6.4 in wide figure is 1280 px).
 SAVE_DPI = 200
+#: Padding around the tight bounding box of a saved figure, inches (matplotlib's default).
+_PAD_IN = 0.1
 
 _PANEL = (6.4, 3.3)  # one stacked panel: full text width, inches
 
@@ -598,10 +600,6 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
 
     w, h = struct.unpack(">II", png[16:24])
     return png, {**facts, "width_px": int(w), "height_px": int(h)}
-
-
-#: Padding around the tight bounding box of a saved figure, inches (matplotlib's default).
-_PAD_IN = 0.1
 
 
 def layout_facts(fig, *, dpi: int = SAVE_DPI) -> dict:
