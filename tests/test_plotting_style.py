@@ -180,6 +180,11 @@ def test_layout_facts_are_renders_without_the_png():
     assert laid["panels"] == 2 and laid["columns"] == 1
     for k in sizes:
         assert laid[k] == pytest.approx(facts[k], rel=0.03)
+    for bad in (0, -200, float("nan"), float("inf"), True, "200"):
+        with pytest.raises(ValueError, match="dpi"):
+            plotting.layout_facts(fig, dpi=bad)
+    with pytest.raises(ValueError, match="fig must be a matplotlib Figure"):
+        plotting.layout_facts(a)
 
 
 def test_panels_get_their_own_letters_and_log_ticks_read_plainly():

@@ -23,11 +23,14 @@ Agg itself (``fusioncenter.cli``).
 from __future__ import annotations
 
 import io
+import math
+import numbers
 import re
 import textwrap
 from contextlib import contextmanager
 
 import matplotlib
+import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 from cycler import cycler
@@ -619,7 +622,16 @@ def layout_facts(fig, *, dpi: int = SAVE_DPI) -> dict:
         :func:`render`'s facts; ``width_px`` and ``height_px`` are those of the padded tight
         bounding box laid out at the figure's own dpi, scaled to ``dpi``: within 3 % of the
         PNG's (on the 39 registry figures), whose text is laid out at ``dpi``.
+
+    Raises
+    ------
+    ValueError
+        If ``fig`` is not a matplotlib figure or ``dpi`` not a positive finite number.
     """
+    if not isinstance(fig, matplotlib.figure.Figure):
+        raise ValueError(f"fig must be a matplotlib Figure, got {type(fig).__name__}")
+    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Real) or not 0 < dpi < math.inf:
+        raise ValueError(f"dpi must be a positive finite number, got {dpi!r}")
     fig.draw_without_rendering()
     renderer = fig.canvas.get_renderer()
     bbox = fig.get_tightbbox(renderer)
