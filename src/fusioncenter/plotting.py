@@ -22,10 +22,12 @@ Agg itself (``fusioncenter.cli``).
 
 from __future__ import annotations
 
+import collections
 import io
 import math
 import numbers
 import re
+import struct
 import textwrap
 from contextlib import contextmanager
 
@@ -581,8 +583,8 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure (normally finished by :func:`finish`); it is laid out (without rasterising:
-        the facts need the layout only) and drawn once into the PNG.
+        The figure (normally finished by :func:`finish`), laid out (:func:`layout_facts`) and
+        drawn once into the PNG.
     dpi : int, default 200
         Resolution of the PNG (:data:`SAVE_DPI`).
 
@@ -592,36 +594,30 @@ def render(fig, *, dpi: int = SAVE_DPI) -> tuple[bytes, dict]:
         The PNG file (0.1 in padding around the tight bounding box).
     facts : dict
         ``width_px``, ``height_px`` (of the PNG), ``dpi``, ``panels`` (axes with data),
-        ``columns`` (panels side by side, at most), ``panel_fraction`` (narrowest data area of
-        a panel as a fraction of the image width), ``min_font_pt`` (smallest text).
+        ``columns`` (side by side), ``panel_fraction`` (narrowest data area / width),
+        ``min_font_pt``.
     """
     facts = layout_facts(fig, dpi=dpi)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=_PAD_IN)
     png = buf.getvalue()
-    import struct
-
     w, h = struct.unpack(">II", png[16:24])
     return png, {**facts, "width_px": int(w), "height_px": int(h)}
 
 
 def layout_facts(fig, *, dpi: int = SAVE_DPI) -> dict:
-    """The facts of :func:`render` from a layout pass alone, nothing rasterised (a test of a
-    figure's legibility: 0.3 s a registry figure less than :func:`render`).
+    """:func:`render`'s facts from one layout pass, nothing rasterised (tests of legibility).
 
     Parameters
     ----------
-    fig : matplotlib.figure.Figure
-        The figure; it is laid out once (``draw_without_rendering``).
-    dpi : int, default 200
-        The resolution the sizes in pixels are for.
+    fig, dpi : matplotlib.figure.Figure, int (default 200)
+        The figure, laid out once, and the resolution the sizes in pixels are for.
 
     Returns
     -------
     dict
-        :func:`render`'s facts; ``width_px`` and ``height_px`` are those of the padded tight
-        bounding box laid out at the figure's own dpi, scaled to ``dpi``: within 3 % of the
-        PNG's (on the 39 registry figures), whose text is laid out at ``dpi``.
+        :func:`render`'s facts; the sizes are the padded tight box's at the figure's own dpi
+        (within 3 % of the PNG's on the 39 registry figures).
 
     Raises
     ------
@@ -638,10 +634,7 @@ def layout_facts(fig, *, dpi: int = SAVE_DPI) -> dict:
     width_in, height_in = bbox.width + 2 * _PAD_IN, bbox.height + 2 * _PAD_IN
     axes = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
     fractions = [ax.get_window_extent(renderer).width / fig.dpi / width_in for ax in axes]
-    rows = {}
-    for ax in axes:
-        y0 = round(ax.get_position().y0, 3)
-        rows[y0] = rows.get(y0, 0) + 1
+    rows = collections.Counter(round(ax.get_position().y0, 3) for ax in axes)
     return {
         "width_px": round(width_in * dpi), "height_px": round(height_in * dpi), "dpi": dpi,
         "panels": len(axes), "columns": max(rows.values(), default=1),
