@@ -18,15 +18,17 @@ Stages (all run; the exit code is 1 if any failed):
                one PDF (tools/pdf_book.py's Printer) from the pages it has loaded and checked
 5. library     pytest on the library and the repository (not the site, not `slow`)
 6. site pages  pytest on the built site but the browser check and the PDF: no external
-               resources, the pages as a reader and JupyterLab show them, the downloads
-7. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
+               resources, the pages as a reader sees them, the downloads
+7. lab         a chapter opened in JupyterLab shows its MyST rendered (tests/site/test_lab.py;
+               it reads the chapter's source, not the built site)
+8. pdf tests   pytest on the PDF (tests/site/test_pdf.py)
 
 and, with ``--with`` (``make test WITH="pythons student"``, what ``.ci/run`` and the GitHub
 workflow run), in the same schedule:
 
-8. pythons     the library's tests again on Python 3.12, from the installed wheel, but those
+9. pythons     the library's tests again on Python 3.12, from the installed wheel, but those
                marked ``heavy`` (``make test-pythons`` runs them all on 3.12 and 3.13)
-9. student     three downloaded notebooks run offline in a fresh Python 3.12
+10. student    three downloaded notebooks run offline in a fresh Python 3.12
                (tools/student_path.py; alone: ``make test-student``)
 
 Without ``--with``, every test in tests/ and every reference notebook runs, on the book's
@@ -52,9 +54,11 @@ stages after them run on two workers (one per core of the 2-core machine), each 
 taking the first stage of the list above whose inputs are ready: the two nbval shards first,
 then the site build after both and the browser check (with the PDF) after it, while the
 library stage takes the other worker (then, with ``--with``, the 3.12 tests); the site pages,
-the pdf tests (and the student's path) go to whichever worker is free first, so that neither
-waits idle for the other at the end. The library stage's registry-entry tests read the
-entries from the run's compute cache too (``FUSIONCENTER_TEST_SHARED_CACHE``:
+JupyterLab's test, the pdf tests (and the student's path) go to whichever worker is free first,
+so that neither waits idle for the other at the end. (JupyterLab's test, 12 s, is a stage of
+its own: in the site pages, 40 s, it left one worker idle for the last 25 s of a fresh run
+while the other ran them after its browser check.) The library stage's registry-entry tests
+read the entries from the run's compute cache too (``FUSIONCENTER_TEST_SHARED_CACHE``:
 tests/figure_helpers.py), instead of computing them again. Output goes to
 ``_build/test-reports/<stage>.log`` and is printed whole when the stage ends; each stage
 reports its wall and CPU seconds (the CPU of its process tree as ``wait4`` counts it: a
@@ -369,10 +373,15 @@ def main(argv: list[str] | None = None) -> int:
                                    log=parallel)),
         Job("site pages", lambda: run(
             "site pages", [*site_pytest, "tests/site", "-m", "site",
-                           "--ignore=tests/site/test_pdf.py", f"--deselect={BROWSER_CHECK}",
+                           "--ignore=tests/site/test_pdf.py", "--ignore=tests/site/test_lab.py",
+                           f"--deselect={BROWSER_CHECK}",
                            f"--junitxml={REPORTS / 'site-pages.xml'}"],
             junit=REPORTS / "site-pages.xml", env={**fast, "FUSIONCENTER_SITE": str(site)},
             skips_fail=True, log=parallel), after=("site build",)),
+        Job("lab", lambda: run(
+            "lab", [*site_pytest, "tests/site/test_lab.py", "-m", "site",
+                    f"--junitxml={REPORTS / 'lab.xml'}"],
+            junit=REPORTS / "lab.xml", env=fast, skips_fail=True, log=parallel)),
         Job("pdf tests", lambda: run(
             "pdf tests", [*site_pytest, "tests/site/test_pdf.py", "-m", "site",
                           f"--junitxml={REPORTS / 'pdf-tests.xml'}"],
