@@ -117,3 +117,49 @@ def test_another_environment_gets_a_new_process(warm, tmp_path, monkeypatch):
     log = warm.read_text()
     assert log.count("fallback") == before + 1
     assert "environment differs in ['FORK_TEST_OTHER']" in log
+
+
+def test_the_log_names_the_process_that_started_each_kernel(warm, tmp_path):
+    """A warm process may serve several processes (tools/run_tests.py's two nbval shards):
+    each kernel's line names the process that started it, and :func:`kernel_fork.mine` keeps
+    a process's own lines and the warm process's lines about no kernel, not the others'."""
+    km = _start(kernel_fork.KERNEL_NAME, tmp_path)
+    try:
+        _run(km, "pass")
+    finally:
+        km.shutdown_kernel(now=True)
+    me = os.getpid()
+    assert any(x.startswith("kernel_fork: forked ") and x.endswith(f" for {me}")
+               for x in kernel_fork.mine(warm))
+    log = tmp_path / "log"
+    log.write_text(f"kernel_fork: ready (9 modules)\nkernel_fork: forked 11 for {me}\n"
+                   "kernel_fork: forked 12 for 7\n"
+                   f"kernel_fork: fallback for {me}: environment differs in ['X']\n"
+                   "kernel_fork: fallback for 7: environment differs in ['Y']\n"
+                   "Traceback (most recent call last): for all\n")
+    assert kernel_fork.mine(log) == [
+        f"kernel_fork: forked 11 for {me}",
+        f"kernel_fork: fallback for {me}: environment differs in ['X']",
+        "Traceback (most recent call last): for all"]
+    assert kernel_fork.mine(log, parent=7) == [
+        "kernel_fork: forked 12 for 7", "kernel_fork: fallback for 7: environment differs in "
+        "['Y']", "Traceback (most recent call last): for all"]
+
+
+def test_a_warm_process_that_cannot_start_fails_with_its_log(tmp_path):
+    """:func:`kernel_fork.wait_ready` (what a shard sharing the warm process of
+    tools/run_tests.py waits with) ends with the warm process's error, not at its timeout."""
+    env = dict(os.environ)
+    proc = kernel_fork.start(tmp_path, env, preload=["no_such_module_here"])
+    try:
+        assert env[kernel_fork.SOCKET_ENV] == str(tmp_path / "socket")
+        assert env["JUPYTER_PATH"].split(os.pathsep)[0] == str(tmp_path)
+        assert (tmp_path / "kernels" / kernel_fork.KERNEL_NAME / "kernel.json").is_file()
+        t0 = time.monotonic()
+        with pytest.raises(RuntimeError, match="did not start") as err:
+            kernel_fork.wait_ready(tmp_path, timeout=120)
+        assert "no_such_module_here" in str(err.value)
+        assert time.monotonic() - t0 < 60
+    finally:
+        proc.kill()
+        proc.wait()

@@ -42,6 +42,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import signal
 import socket
 import struct
@@ -54,6 +55,10 @@ KERNEL_NAME = "fusioncenter-fork"
 #: ipykernel's default backend (IPKernelApp.init_gui_pylab sets it unless MPLBACKEND is set)
 INLINE = "module://matplotlib_inline.backend_inline"
 SOCKET_ENV = "FUSIONCENTER_KERNEL_FORK"
+#: The folder of a warm process that another process started and stops (:func:`start`): set
+#: by tools/run_tests.py for its nbval shards, which then share one warm process
+#: (tests/golden/conftest.py waits for it, :func:`wait_ready`, instead of starting its own).
+SHARED_ENV = "FUSIONCENTER_KERNEL_FORK_SHARED"
 #: set for each kernel (by jupyter_client, by pytest for the test that starts it, by the
 #: terminal size): no module reads them when it is imported, only when it is called
 PER_KERNEL = frozenset({"JPY_PARENT_PID", "JPY_SESSION_NAME", "PYTEST_CURRENT_TEST", "COLUMNS",
@@ -127,7 +132,9 @@ def serve(path: str, preload: list[str] = PRELOAD) -> None:
     listener.bind(path)
     listener.listen(64)
     print(f"kernel_fork: ready ({len(sys.modules)} modules)", flush=True)
-    log = sys.stdout  # one line per kernel: "forked PID" or "fallback: why"
+    # one line per kernel: "forked PID for PARENT" or "fallback for PARENT: why", PARENT the
+    # process that started it (a warm process may serve several: tools/run_tests.py's shards)
+    log = sys.stdout
     while True:
         conn, _ = listener.accept()
         try:
@@ -136,10 +143,11 @@ def serve(path: str, preload: list[str] = PRELOAD) -> None:
             conn.close()
             continue
         diff = _differences(req["env"], env)
+        who = f" for {req.get('parent', '?')}"  # the process that started the kernel
         if diff or len(fds) != 3:
             why = f"environment differs in {diff[:8]}" if diff else "no standard streams"
             _send(conn, {"fallback": why})
-            print(f"kernel_fork: fallback: {why}", file=log, flush=True)
+            print(f"kernel_fork: fallback{who}: {why}", file=log, flush=True)
             conn.close()
             for fd in fds:
                 os.close(fd)
@@ -148,7 +156,7 @@ def serve(path: str, preload: list[str] = PRELOAD) -> None:
         if pid == 0:
             listener.close()
             _become_kernel(conn, fds, req)  # never returns
-        print(f"kernel_fork: forked {pid}", file=log, flush=True)
+        print(f"kernel_fork: forked {pid}{who}", file=log, flush=True)
         conn.close()
         for fd in fds:
             os.close(fd)
@@ -205,6 +213,66 @@ def _become_kernel(conn: socket.socket, fds: list[int], req: dict) -> None:
             os._exit(code)
 
 
+def start(tmp: Path, env: dict, *, preload: list[str] | None = None,
+          popen=subprocess.Popen) -> subprocess.Popen:
+    """Start a warm process in ``tmp``: the kernelspec :data:`KERNEL_NAME` in ``tmp/kernels``,
+    the socket ``tmp/socket``, its log ``tmp/log`` (one line per kernel) and its pid in
+    ``tmp/pid``. ``env`` is the environment the kernels will have: it gets ``JUPYTER_PATH``
+    (``tmp`` first) and :data:`SOCKET_ENV`, in place, and the warm process starts in it.
+    ``popen(cmd, **kw)`` starts the process (``tools/procs.py``'s, for one that an interrupt
+    stops; ``None`` from it is a RuntimeError). Wait for it with :func:`wait_ready`."""
+    spec = tmp / "kernels" / KERNEL_NAME
+    spec.mkdir(parents=True)
+    spec.joinpath("kernel.json").write_text(json.dumps({
+        "argv": [sys.executable, os.path.abspath(__file__), "launch", "-f", "{connection_file}"],
+        "display_name": "Python 3 (forked)", "language": "python",
+        "metadata": {"debugger": True}}))
+    env["JUPYTER_PATH"] = os.pathsep.join(p for p in (str(tmp), env.get("JUPYTER_PATH")) if p)
+    env[SOCKET_ENV] = str(tmp / "socket")
+    with (tmp / "log").open("w") as fh:
+        proc = popen([sys.executable, os.path.abspath(__file__), "serve", str(tmp / "socket"),
+                      *([",".join(preload)] if preload is not None else [])],
+                     env=dict(env), stdin=subprocess.DEVNULL, stdout=fh,
+                     stderr=subprocess.STDOUT)
+    if proc is None:
+        raise RuntimeError("tools/kernel_fork.py serve not started (interrupted)")
+    (tmp / "pid").write_text(str(proc.pid))
+    return proc
+
+
+def wait_ready(tmp: Path, timeout: float = 600.0) -> Path:
+    """Wait until the warm process that :func:`start` started in ``tmp`` (here or in another
+    process) is ready; its log. RuntimeError with the log's end if it ended first or is not
+    ready within ``timeout`` s (a fresh clone compiles the bytecode first)."""
+    log, pid = tmp / "log", int((tmp / "pid").read_text())
+    deadline = time.monotonic() + timeout
+    while "kernel_fork: ready" not in log.read_text():
+        if not _running(pid) or time.monotonic() > deadline:
+            raise RuntimeError("tools/kernel_fork.py serve did not start:\n"
+                               + log.read_text()[-3000:])
+        time.sleep(0.05)
+    return log
+
+
+def _running(pid: int) -> bool:
+    try:  # neither ended nor a zombie (ended, not yet waited for by its parent)
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def mine(log: Path, parent: int | None = None) -> list[str]:
+    """The lines of the warm process's ``log`` about the kernels that ``parent`` (default: this
+    process) started, and every line about no kernel (the warm process's own errors)."""
+    parent = os.getpid() if parent is None else parent
+    out = []
+    for line in log.read_text().splitlines():
+        m = re.match(r"kernel_fork: (?:forked \d+|fallback) for (\S+?)(?::|$)", line)
+        if (m is None and "kernel_fork: ready" not in line) or (m and m[1] == str(parent)):
+            out.append(line)
+    return out
+
+
 @contextlib.contextmanager
 def warm_kernels(tmp: Path, timeout: float = 600.0, preload: list[str] | None = None):
     """The kernelspec :data:`KERNEL_NAME` (in ``tmp``, put on ``JUPYTER_PATH``) and its warm
@@ -212,37 +280,19 @@ def warm_kernels(tmp: Path, timeout: float = 600.0, preload: list[str] | None = 
     yields the warm process's log (one line per kernel). ``os.environ`` gets both variables
     before the warm process starts: they are part of the environment the kernels will have.
     ``preload`` replaces :data:`PRELOAD` (the tests of the mechanism)."""
-    spec = tmp / "kernels" / KERNEL_NAME
-    spec.mkdir(parents=True)
-    spec.joinpath("kernel.json").write_text(json.dumps({
-        "argv": [sys.executable, os.path.abspath(__file__), "launch", "-f", "{connection_file}"],
-        "display_name": "Python 3 (forked)", "language": "python",
-        "metadata": {"debugger": True}}))
     saved = {k: os.environ.get(k) for k in ("JUPYTER_PATH", SOCKET_ENV)}
-    os.environ["JUPYTER_PATH"] = os.pathsep.join(p for p in (str(tmp), saved["JUPYTER_PATH"])
-                                                 if p)
-    os.environ[SOCKET_ENV] = str(tmp / "socket")
-    log = tmp / "log"
-    with log.open("w") as fh:
-        proc = subprocess.Popen([sys.executable, os.path.abspath(__file__), "serve",
-                                 str(tmp / "socket"),
-                                 *([",".join(preload)] if preload is not None else [])],
-                                stdin=subprocess.DEVNULL, stdout=fh, stderr=subprocess.STDOUT)
+    proc = None
     try:
-        deadline = time.monotonic() + timeout  # a fresh clone compiles the bytecode first
-        while "kernel_fork: ready" not in log.read_text():
-            if proc.poll() is not None or time.monotonic() > deadline:
-                raise RuntimeError("tools/kernel_fork.py serve did not start:\n"
-                                   + log.read_text()[-3000:])
-            time.sleep(0.05)
-        yield log
+        proc = start(tmp, os.environ, preload=preload)
+        yield wait_ready(tmp, timeout)
     finally:
-        proc.terminate()
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        if proc is not None:
+            proc.terminate()
+            try:
+                proc.wait(10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
         for k, v in saved.items():
             if v is None:
                 os.environ.pop(k, None)
@@ -271,8 +321,8 @@ def main(argv: list[str] | None = None) -> int:
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
         sock.connect(path)
-        _send(sock, {"argv": kargs, "env": dict(os.environ),
-                     "cwd": os.getcwd(), "launcher": os.getpid()}, [0, 1, 2])
+        _send(sock, {"argv": kargs, "env": dict(os.environ), "cwd": os.getcwd(),
+                     "launcher": os.getpid(), "parent": os.getppid()}, [0, 1, 2])
         reply, _ = _recv(sock)
     except (OSError, ValueError, ConnectionError) as exc:
         _fallback(kargs, f"the warm process at {path} did not answer: {exc}")

@@ -10,8 +10,10 @@ Stages (all run; the exit code is 1 if any failed):
    index       the registry's index (src/fusioncenter/figures/_index.json) is current
 2. nbval k     strict nbval (``--nbval``) on the executed reference notebooks tests/golden/, in
                two shards, the first longer (:func:`nbval_shards`, :data:`SHARD_1_SHARE`),
-               each kernel forked from a process that has imported the chapters' libraries
-               (tools/kernel_fork.py; a kernel whose environment differs starts anew)
+               each kernel forked from one process for both shards that has imported the
+               chapters' libraries (tools/kernel_fork.py, :class:`Warm`; a kernel whose
+               environment differs starts anew); the summary shows that process as the
+               line ``kernels``, with the kernels' CPU
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
 4. site        the headless-Chromium check of the built site (two browsers side by side:
                tools/browser_check.py, :data:`BROWSER_CHECK`), which also prints the site as
@@ -64,7 +66,7 @@ tests/figure_helpers.py), instead of computing them again. Output goes to
 reports its wall and CPU seconds (the CPU of its process tree as ``wait4`` counts it: a
 process orphaned before it ends is not counted, such as Chromium's renderers when the browser
 closes, so the site stage counts too little; the forked kernels are reaped by their warm
-process and count).
+process and count as its, the line ``kernels``).
 ``FUSIONCENTER_TEST_LANES=1`` runs the stages one after the other, in that order, nbval in one
 shard.
 
@@ -81,6 +83,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import xml.etree.ElementTree as ET
@@ -88,9 +91,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import kernel_fork  # noqa: E402
 import procs  # noqa: E402
 from build_book import bytecode_env, one_blas_thread  # noqa: E402
-from kernel_fork import KERNEL_NAME  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -206,6 +209,50 @@ def schedule(jobs: list[Job], workers: int) -> list[Stage]:
     if errors:
         raise errors[0]
     return [done[j.name] for j in jobs]
+
+
+class Warm:
+    """The warm process (tools/kernel_fork.py) whose forks are both nbval shards' kernels,
+    started here in :attr:`env`, the shards' environment (the kernels' as nbval starts them:
+    this process's, ``extra``, the variables of :func:`kernel_fork.start`, and
+    ``PYTEST_VERSION``, which pytest sets in its process). A registered process
+    (``tools/procs.py``): an interrupt stops it with the stages. Stopped when the last shard
+    ends; :meth:`stop` returns it as a stage ``kernels``: its CPU is the kernels' (the shards'
+    CPU is then their pytest processes'), and it fails if it ended before it was stopped."""
+
+    def __init__(self, extra: dict, shards: int) -> None:
+        from importlib.metadata import version
+
+        self.tmp = Path(tempfile.mkdtemp(prefix="fusioncenter-fork-"))
+        self.env = {**os.environ, **extra, kernel_fork.SHARED_ENV: str(self.tmp),
+                    "PYTEST_VERSION": version("pytest")}
+        self.t0 = time.perf_counter()
+        self.proc = kernel_fork.start(self.tmp, self.env,
+                                      popen=lambda cmd, **kw: procs.start("kernels", cmd, **kw))
+        self.left, self.lock, self.stage = shards, threading.RLock(), None
+
+    def shard_ended(self) -> None:
+        with self.lock:
+            self.left -= 1
+            if self.left <= 0:
+                self.stop()
+
+    def stop(self) -> Stage:
+        with self.lock:
+            if self.stage is None:
+                alive = self.proc.poll() is None
+                if alive:
+                    self.proc.terminate()
+                rc = procs.wait(self.proc)
+                self.stage = Stage("kernels", alive, time.perf_counter() - self.t0,
+                                   cpu=self.proc.cpu_seconds, failed=int(not alive))
+                if not alive:
+                    log = (self.tmp / "log").read_text(errors="replace")[-3000:]
+                    with _PRINT:
+                        print(f"===== kernels: the warm process ended (exit {rc}) before the "
+                              f"shards did:\n{log}", flush=True)
+                shutil.rmtree(self.tmp, ignore_errors=True)
+            return self.stage
 
 
 #: Seconds of each reference notebook under nbval, kernel and registry entries included (the
@@ -341,16 +388,26 @@ def main(argv: list[str] | None = None) -> int:
         folder.mkdir(parents=True)
     shared = {**fast, "FUSIONCENTER_COMPUTE_CACHE": str(cache),
               "FUSIONCENTER_NBVAL_EXECUTED": str(executed)}
+    share = SHARD_1_SHARE_WITH if "pythons" in extra else SHARD_1_SHARE
+    shards = nbval_shards(2, (share, 1 - share)) if parallel else nbval_shards(1)
+    # one warm process (tools/kernel_fork.py) for the shards' kernels, started now: its
+    # imports (9 s of CPU on a fresh clone) overlap the shards' start, once instead of in each
+    warm = Warm(shared, len(shards))
 
     def nbval(k: int, notebooks: list[str]) -> Job:
         name, xml = f"nbval {k}", REPORTS / f"nbval-{k}.xml"
-        return Job(name, lambda: run(
-            name, [*lean, "--nbval", "--nbval-kernel-name", KERNEL_NAME, "--nbval-sanitize-with",
-                   "tests/golden/sanitize.cfg", *notebooks, f"--junitxml={xml}"],
-            junit=xml, env=shared, log=parallel))
 
-    share = SHARD_1_SHARE_WITH if "pythons" in extra else SHARD_1_SHARE
-    shards = nbval_shards(2, (share, 1 - share)) if parallel else nbval_shards(1)
+        def fn() -> Stage:
+            try:
+                return run(name, [*lean, "--nbval", "--nbval-kernel-name",
+                                  kernel_fork.KERNEL_NAME, "--nbval-sanitize-with",
+                                  "tests/golden/sanitize.cfg", *notebooks, f"--junitxml={xml}"],
+                           junit=xml, env=warm.env, log=parallel)
+            finally:
+                warm.shard_ended()
+
+        return Job(name, fn)
+
     jobs = [
         *(nbval(k, nb) for k, nb in enumerate(shards, 1)),
         Job("site build", lambda: run(
@@ -417,6 +474,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         stages = [run(name, cmd) for name, cmd in lint]
         stages += schedule(jobs, 1)
+    stages.append(warm.stop())
     total = time.perf_counter() - t0
     print("\n===== make test summary")
     for s in stages:

@@ -15,7 +15,9 @@ plugin does nothing.
 With ``--nbval-kernel-name fusioncenter-fork`` (``make test``) the kernels are forked from one
 process that has imported the chapters' libraries already (``tools/kernel_fork.py``): this
 plugin provides the kernelspec, starts that process before the first notebook and stops it at
-the end, and reports how many kernels were forked and why any was not.
+the end, and reports how many kernels were forked and why any was not. Under
+``tools/run_tests.py`` the two shards share one such process, which it starts and stops
+(``FUSIONCENTER_KERNEL_FORK_SHARED`` names its folder): the plugin waits until it is ready.
 """
 
 from __future__ import annotations
@@ -90,6 +92,14 @@ def pytest_configure(config):
     import kernel_fork
 
     assert kernel_fork.KERNEL_NAME == FORK_KERNEL
+    shared = os.environ.get(kernel_fork.SHARED_ENV, "").strip()
+    if shared:  # tools/run_tests.py's warm process, for both shards: it starts and stops it
+        try:
+            log = kernel_fork.wait_ready(Path(shared))
+        except (OSError, ValueError, RuntimeError) as exc:
+            raise pytest.UsageError(f"the shared warm process ({shared}): {exc}") from None
+        _fork.update(stack=contextlib.ExitStack(), log=log)
+        return
     tmp = Path(tempfile.mkdtemp(prefix="fusioncenter-fork-"))
     stack = contextlib.ExitStack()
     stack.callback(shutil.rmtree, tmp, ignore_errors=True)
@@ -103,9 +113,11 @@ def pytest_configure(config):
 
 def pytest_terminal_summary(terminalreporter):
     if _fork:
-        lines = _fork["log"].read_text().splitlines()
+        import kernel_fork
+
+        lines = kernel_fork.mine(_fork["log"])  # a shared warm process also logs the other's
         forked = sum(1 for line in lines if line.startswith("kernel_fork: forked"))
-        others = [line for line in lines if "forked" not in line and "ready" not in line]
+        others = [line for line in lines if not line.startswith("kernel_fork: forked")]
         terminalreporter.write_line(f"kernel_fork: {forked} kernel(s) forked from the warm "
                                     f"process; {len(others)} other line(s)")
         for line in others:
