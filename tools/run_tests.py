@@ -452,29 +452,32 @@ def main(argv: list[str] | None = None) -> int:
                       "book/_ext"]),
             ("chapters", [PY, "tools/lint_chapters.py"]),
             ("index", [PY, "-m", "fusioncenter.figures._index", "--check"])]
-    if parallel:
-        # the lint (5 s on one core) beside the nbval shards rather than before them, with a
-        # core idle: a third process for 5 s, and the shards start at once
-        linted: list[Stage] = []
-        failure: list[BaseException] = []
+    try:
+        if parallel:
+            # the lint (5 s on one core) beside the nbval shards rather than before them, with a
+            # core idle: a third process for 5 s, and the shards start at once
+            linted: list[Stage] = []
+            failure: list[BaseException] = []
 
-        def lint_all() -> None:
-            try:
-                linted.extend(run(name, cmd, log=True) for name, cmd in lint)
-            except BaseException as exc:  # re-raised below: a crashed stage fails the run
-                failure.append(exc)
+            def lint_all() -> None:
+                try:
+                    linted.extend(run(name, cmd, log=True) for name, cmd in lint)
+                except BaseException as exc:  # re-raised below: a crashed stage fails the run
+                    failure.append(exc)
 
-        thread = threading.Thread(target=lint_all)
-        thread.start()
-        stages = schedule(jobs, 2)
-        thread.join()
-        if failure:
-            raise failure[0]
-        stages = linted + stages
-    else:
-        stages = [run(name, cmd) for name, cmd in lint]
-        stages += schedule(jobs, 1)
-    stages.append(warm.stop())
+            thread = threading.Thread(target=lint_all)
+            thread.start()
+            stages = schedule(jobs, 2)
+            thread.join()
+            if failure:
+                raise failure[0]
+            stages = linted + stages
+        else:
+            stages = [run(name, cmd) for name, cmd in lint]
+            stages += schedule(jobs, 1)
+    finally:  # stopped by the last shard, unless a stage crashed before
+        kernels = warm.stop()
+    stages.append(kernels)
     total = time.perf_counter() - t0
     print("\n===== make test summary")
     for s in stages:
