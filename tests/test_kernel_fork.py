@@ -155,11 +155,9 @@ def test_a_warm_process_that_cannot_start_fails_with_its_log(tmp_path):
         assert env[kernel_fork.SOCKET_ENV] == str(tmp_path / "socket")
         assert env["JUPYTER_PATH"].split(os.pathsep)[0] == str(tmp_path)
         assert (tmp_path / "kernels" / kernel_fork.KERNEL_NAME / "kernel.json").is_file()
-        t0 = time.monotonic()
-        with pytest.raises(RuntimeError, match="did not start") as err:
-            kernel_fork.wait_ready(tmp_path, timeout=120)
+        with pytest.raises(RuntimeError, match="ended before it was ready") as err:
+            kernel_fork.wait_ready(tmp_path, timeout=600)
         assert "no_such_module_here" in str(err.value)
-        assert time.monotonic() - t0 < 60
     finally:
         proc.kill()
         proc.wait()

@@ -247,9 +247,10 @@ def wait_ready(tmp: Path, timeout: float = 600.0) -> Path:
     log, pid = tmp / "log", int((tmp / "pid").read_text())
     deadline = time.monotonic() + timeout
     while "kernel_fork: ready" not in log.read_text():
-        if not _running(pid) or time.monotonic() > deadline:
-            raise RuntimeError("tools/kernel_fork.py serve did not start:\n"
-                               + log.read_text()[-3000:])
+        why = ("ended before it was ready" if not _running(pid) else
+               f"was not ready within {timeout:g} s" if time.monotonic() > deadline else None)
+        if why:
+            raise RuntimeError(f"tools/kernel_fork.py serve {why}:\n{log.read_text()[-3000:]}")
         time.sleep(0.05)
     return log
 
