@@ -244,22 +244,17 @@ def wait_ready(tmp: Path, timeout: float = 600.0) -> Path:
     """Wait until the warm process that :func:`start` started in ``tmp`` (here or in another
     process) is ready; its log. RuntimeError with the log's end if it ended first or is not
     ready within ``timeout`` s (a fresh clone compiles the bytecode first)."""
+    from procs import _alive  # beside this file: ended or a zombie is not alive
+
     log, pid = tmp / "log", int((tmp / "pid").read_text())
     deadline = time.monotonic() + timeout
     while "kernel_fork: ready" not in log.read_text():
-        why = ("ended before it was ready" if not _running(pid) else
+        why = ("ended before it was ready" if not _alive(pid) else
                f"was not ready within {timeout:g} s" if time.monotonic() > deadline else None)
         if why:
             raise RuntimeError(f"tools/kernel_fork.py serve {why}:\n{log.read_text()[-3000:]}")
         time.sleep(0.05)
     return log
-
-
-def _running(pid: int) -> bool:
-    try:  # neither ended nor a zombie (ended, not yet waited for by its parent)
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 def mine(log: Path, parent: int | None = None) -> list[str]:
