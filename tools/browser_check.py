@@ -1110,11 +1110,25 @@ def check_markup(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict[str,
 # (``book/<part>/<chapter>.html``; the API reference and the index pages are not chapters):
 # images in a cell's output that are not a numbered, captioned figure; outputs printing a
 # Python repr or a bare boolean; ASCII stand-ins for mathematics in prose, tables, headings,
-# captions and outputs; lines of unfolded code (cells not tagged hide-input/hide-cell).
+# captions and outputs; lines of unfolded code (cells not tagged hide-input/hide-cell) before
+# the Reproduction notes; doubled words in the prose ("the The", "Exercise Exercise"); numbers
+# typed in the prose that an output of the same page contradicts (41.8 where it prints 41.60).
 # ============================================================================================
 
-#: The median chapter page shows at most this many non-blank lines of unfolded code.
-MAX_MEDIAN_CODE_LINES = 80
+#: The median chapter page shows at most this many non-blank lines of unfolded code before its
+#: Reproduction notes (issue 46: the argument first, the audit after it).
+MAX_MEDIAN_CODE_LINES = 40
+#: The heading of the section that holds a chapter's audit; code after it is not counted.
+NOTES_HEADING = "Reproduction notes"
+#: Elements that end a run of prose: a doubled word is looked for inside one of them only.
+_BLOCK_TAGS = {"p", "li", "td", "th", "dt", "dd", "h1", "h2", "h3", "h4", "h5", "h6",
+               "figcaption", "caption", "div", "section", "table", "tr", "summary", "blockquote"}
+#: Parts of a page whose typed numbers are compared with their own outputs only.
+_SEGMENT_CLASSES = {"solution", "exercise", "admonition", "proof"}
+#: A word written twice in a row (case-insensitive): "the The", "Exercise Exercise".
+DOUBLED_WORD = re.compile(r"\b([A-Za-z]{2,})\s+\1\b", re.IGNORECASE)
+#: A decimal number as text: 41.8, 0.437, -1.25 (not 3, not 1e-3's mantissa alone).
+DECIMAL = re.compile(r"(?<![\w.])-?\d+\.\d+(?![\w.]*\d)")
 #: Printed output that is a Python repr or a bare boolean, not a result for a reader.
 REPR_OUTPUT = [
     ("bare boolean", re.compile(r"^\s*(?:True|False)\s*$|:\s*(?:True|False)\s*$", re.M)),
@@ -1145,6 +1159,49 @@ def find_repr_output(text: str) -> list[tuple[str, str]]:
             for kind, rx in REPR_OUTPUT for m in rx.finditer(text)]
 
 
+def find_doubled_words(blocks: list[str]) -> list[str]:
+    """Every word written twice in a row inside one block of prose ("the The")."""
+    out = []
+    for block in blocks:
+        text = " ".join(block.split())
+        out += [" ".join(text[max(0, m.start() - 30):m.end() + 30].split())
+                for m in DOUBLED_WORD.finditer(text)]
+    return out
+
+
+def _significant(token: str) -> int:
+    return len(token.lstrip("-").replace(".", "").lstrip("0"))
+
+
+def find_contradicted_numbers(typed: list[tuple[int, str]],
+                              printed: list[tuple[int, str]]) -> list[str]:
+    """Numbers typed in the prose that an output of the same part of the page contradicts.
+
+    ``typed`` and ``printed`` are ``(segment, text)`` pairs: the prose and mathematics outside
+    glued values, and the outputs (cell outputs, evidence tables), each with the segment of
+    the page it stands in (a section, an exercise, a solution, an admonition). A decimal
+    number of three or more significant digits typed in a segment is contradicted when no
+    output number of that segment rounds to it at its decimals, but one lies within 2 % of it:
+    "C ≈ 41.8" in a solution whose output prints 41.60.
+    """
+    numbers: dict[int, list[float]] = {}
+    for seg, text in printed:
+        numbers.setdefault(seg, []).extend(float(t) for t in DECIMAL.findall(text))
+    out = []
+    for seg, text in typed:
+        outputs = numbers.get(seg, [])
+        for token in DECIMAL.findall(text):
+            if _significant(token) < 3:
+                continue
+            x, decimals = float(token), len(token.split(".")[1])
+            if any(abs(y - x) <= 0.5 * 10.0 ** -decimals * 1.0001 for y in outputs):
+                continue
+            near = [y for y in outputs if y and abs(x - y) <= 0.02 * abs(y)]
+            if near:
+                out.append(f"{token} in the text, {near[0]:g} in an output")
+    return out
+
+
 def find_ascii_math(text: str) -> list[tuple[str, str]]:
     """The (kind, excerpt) of every ASCII stand-in for mathematics in ``text``."""
     return [(kind, " ".join(text[max(0, m.start() - 30):m.end() + 30].split()))
@@ -1162,6 +1219,16 @@ class _Reading(HTMLParser):
         self.outputs: list[str] = []
         self.loose_images: list[str] = []
         self.prose: list[str] = []
+        self.blocks: list[str] = []  # the prose, one string per block element
+        #: (segment, text) of the prose and mathematics outside glued values, and of the
+        #: outputs (cell outputs and evidence tables): :func:`find_contradicted_numbers`
+        self.typed: list[tuple[int, str]] = []
+        self.printed: list[tuple[int, str]] = []
+        self._segments: list[tuple[int, int]] = [(0, 0)]  # (depth in the stack, segment)
+        self._count = 0
+        self.in_notes = False  # past the Reproduction notes' heading
+        self._block: list[str] = []
+        self._heading: list[str] | None = None
         self._code: list[str] | None = None
         self._out: list[str] | None = None
         self._out_depth = 0
@@ -1181,18 +1248,41 @@ class _Reading(HTMLParser):
             return
         if tag in _VOID_TAGS:
             return
+        if tag in _BLOCK_TAGS:
+            self._flush()
+        if tag == "h2":
+            self._heading = []
         self.stack.append((tag, classes))
+        if tag == "section" or (tag == "div" and classes & _SEGMENT_CLASSES) or (
+                tag == "details" and "fc-evidence" in classes):
+            self._count += 1
+            self._segments.append((len(self.stack), self._count))
+        if self._has("math") and len(self.stack) and tag == "span":
+            self._block.append(" ∙ ")  # mathematics stands between two words
         if tag == "pre" and self._has("cell_input") and self._code is None:
             folded = (self._has("tag_hide-input") or self._has("tag_hide-cell")
                       or self._tag("details"))
-            self._code = [] if not folded else None
+            self._code = [] if not (folded or self.in_notes) else None
         if "cell_output" in classes and self._out is None:
             self._out, self._out_depth = [], len(self.stack)
+
+    def _flush(self) -> None:
+        if self._block:
+            self.blocks.append("".join(self._block))
+            self._block = []
 
     def handle_endtag(self, tag):
         if tag in _VOID_TAGS or not self.stack:
             return
+        if tag in _BLOCK_TAGS:
+            self._flush()
+        if tag == "h2" and self._heading is not None:
+            if NOTES_HEADING in " ".join("".join(self._heading).split()):
+                self.in_notes = True
+            self._heading = None
         while self.stack:
+            if self._segments[-1][0] == len(self.stack):
+                self._segments.pop()
             t, _c = self.stack.pop()
             if tag == "pre" and t == "pre" and self._code is not None:
                 self.code_lines += sum(1 for line in "".join(self._code).splitlines()
@@ -1205,6 +1295,14 @@ class _Reading(HTMLParser):
                 break
 
     def handle_data(self, data):
+        if self._heading is not None:
+            self._heading.append(data)
+        segment = self._segments[-1][1]
+        if self._out is not None or self._has("fc-evidence"):
+            self.printed.append((segment, data))
+        elif not (self._has("pasted-text") or self._has("pasted-inline") or self._tag("pre")
+                  or self._tag("script") or self._tag("style") or self._has("cell_input")):
+            self.typed.append((segment, data))
         if self._code is not None:
             self._code.append(data)
         math = self._has("math") or self._tag("mjx-container")
@@ -1215,6 +1313,12 @@ class _Reading(HTMLParser):
         if not (math or self._tag("pre") or self._tag("code") or self._tag("script")
                 or self._tag("style") or self._has("cell_input") or self._has("highlight")):
             self.prose.append(data)
+            if not self._has("fc-evidence"):
+                self._block.append(data)
+
+    def close(self):
+        super().close()
+        self._flush()
 
 
 def is_chapter(rel: str) -> bool:
@@ -1233,7 +1337,8 @@ def read_page(text: str) -> _Reading:
 
 
 def check_reading(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict]:
-    """The reading checks of every chapter page: (problems, per-page visible code lines)."""
+    """The reading checks of every chapter page: (problems, per-page visible code lines before
+    the Reproduction notes)."""
     html_dir = Path(html_dir)
     problems: list[str] = []
     code: dict[str, int] = {}
@@ -1252,6 +1357,11 @@ def check_reading(html_dir: str | os.PathLike[str]) -> tuple[list[str], dict]:
                          for kind, ex in find_ascii_math(out)]
         problems += [f"page {rel}: ASCII mathematics in the text ({kind}): {ex!r}"
                      for kind, ex in find_ascii_math(" ".join(page.prose))]
+        problems += [f"page {rel}: a doubled word: {ex!r}"
+                     for ex in find_doubled_words(page.blocks)]
+        problems += [f"page {rel}: a number typed in the prose contradicts an output "
+                     f"({ex}): glue it from the cell" for ex in
+                     find_contradicted_numbers(page.typed, page.printed)]
     if code:
         import statistics
 

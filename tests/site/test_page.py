@@ -356,6 +356,61 @@ def test_reading_counts_unfolded_code_and_finds_loose_images():
     assert bc.find_ascii_math(" ".join(r.prose)) and "hat x" not in " ".join(r.prose)
 
 
+def test_reading_counts_code_only_before_the_reproduction_notes():
+    cell = ('<div class="cell docutils container"><div class="cell_input docutils container">'
+            '<div class="highlight"><pre>{}</pre></div></div></div>')
+    page = ('<section id="a"><h2>1.1. The idea</h2>' + cell.format("a = 1\nb = 2")
+            + '</section><section id="n"><h2>1.5. Reproduction <em>notes</em></h2>'
+            + cell.format("assert a == 1") + "</section>")
+    assert bc.read_page(page).code_lines == 2
+
+
+@pytest.mark.parametrize("html, found", [
+    ("<p>Start with the <a href='x'>The Kalman filter</a> chapter.</p>", "the The"),
+    ("<p>as <a href='e'>Exercise Exercise 14.1</a> shows</p>", "Exercise Exercise"),
+    ("<p>values of <span class='math'>\\(l\\)</span> of an entry</p>", None),
+    ("<table><tr><td>reproduced</td><td>reproduced</td></tr></table>", None),
+    ("<p>that is, that that rule</p>", "that that"),
+])
+def test_doubled_words_are_found_within_a_block_only(html, found):
+    words = bc.find_doubled_words(bc.read_page(html).blocks)
+    assert (found is None and not words) or any(found in w for w in words), words
+
+
+SOLUTION = ('<div class="solution dropdown admonition"><p>So {}.</p>'
+            '<div class="cell docutils container"><div class="cell_output docutils container">'
+            '<div class="output stream"><pre>C = 41.60</pre></div></div></div></div>')
+
+
+@pytest.mark.parametrize("prose, flagged", [
+    ("<span class='math'>\\(C \\approx 41.8\\)</span>", True),  # the slip of Solution 12.4
+    ("C is about 41.8", True),
+    ("C is about 41.6", False),  # agrees at its precision
+    ("C is about <span class='pasted-text'>41.8</span>", False),  # glued: the cell's own
+    ("the paper prints 57.3", False),  # not near any output
+    ("C is about 42", False),  # two significant digits: not compared
+])
+def test_numbers_typed_in_the_text_are_checked_against_the_outputs(prose, flagged):
+    page = bc.read_page(SOLUTION.format(prose))
+    assert bool(bc.find_contradicted_numbers(page.typed, page.printed)) is flagged
+
+
+def test_numbers_are_compared_with_the_outputs_of_their_own_section_only():
+    page = bc.read_page("<section><p>C is about 41.8.</p></section>"
+                        + SOLUTION.format("nothing typed"))
+    assert not bc.find_contradicted_numbers(page.typed, page.printed)
+
+
+def test_the_reading_check_fails_on_a_slip(tmp_path):
+    chapter = tmp_path / "book" / "part" / "chapter.html"
+    chapter.parent.mkdir(parents=True)
+    chapter.write_text("<html><body><p>Start with the The Kalman filter.</p>"
+                       + SOLUTION.format("C is about 41.8") + "</body></html>")
+    problems, _ = bc.check_reading(tmp_path)
+    assert any("doubled word" in p for p in problems), problems
+    assert any("41.8 in the text, 41.6 in an output" in p for p in problems), problems
+
+
 def test_reading_checks_only_chapter_pages():
     assert bc.is_chapter("book/mo2015/trigger.html")
     assert not bc.is_chapter("book/mo2015/index.html")
