@@ -471,8 +471,10 @@ def main(argv: list[str] | None = None) -> int:
     want = prepare(out, args.profile, args.edition)
     # registry results are shared between chapters through a folder that prepare() wipes with
     # the rest of the build when the fingerprint changes
+    # FUSIONCENTER_STATIC_FIGURES: explorable figures are the static page's slider, never an
+    # ipywidgets slider a built page could not move (fusioncenter.explore)
     env = dict(os.environ, FUSIONCENTER_PROFILE=args.profile, PYTHONHASHSEED="0",
-               FUSIONCENTER_EDITION=args.edition,
+               FUSIONCENTER_EDITION=args.edition, FUSIONCENTER_STATIC_FIGURES="1",
                FUSIONCENTER_COMPUTE_CACHE=str(Path(args.compute_cache).resolve()
                                               if args.compute_cache else
                                               out / "_build" / "compute-cache"))

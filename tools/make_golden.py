@@ -52,6 +52,7 @@ def build(docname: str) -> Path:
                                  "language": "python"}
     env_before = os.environ.get("FUSIONCENTER_PROFILE")
     os.environ["FUSIONCENTER_PROFILE"] = "fast"
+    os.environ["FUSIONCENTER_STATIC_FIGURES"] = "1"  # the site's outputs (fusioncenter.explore)
     try:
         NotebookClient(nb, timeout=1800, kernel_name="python3",
                        resources={"metadata": {"path": str(src.parent)}}).execute()

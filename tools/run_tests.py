@@ -362,7 +362,8 @@ def main(argv: list[str] | None = None) -> int:
     # the bytecode they compile, in the environment's pycache: with PYTHONDONTWRITEBYTECODE
     # set, as on this machine, each of them compiled NumPy, SciPy, SymPy... again
     bytecode_env(os.environ, ROOT)
-    fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0"}
+    fast = {"FUSIONCENTER_PROFILE": "fast", "PYTHONHASHSEED": "0",
+            "FUSIONCENTER_STATIC_FIGURES": "1"}  # outputs as on the site (fusioncenter.explore)
     # without the pytest plugins a stage does not use: loading them cost 4.5 s of CPU in every
     # pytest process (nbval imports nbformat, whose jsonschema builds rfc3987_syntax's 38
     # parsers; hypothesis's plugin; anyio's), 0.5 s without (``--co`` of tests/site/test_pdf.py)
