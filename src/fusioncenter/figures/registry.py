@@ -630,7 +630,7 @@ def build_index(write: bool = True) -> dict:
 #: book's own figures it registers in ``OWN_IDS``; every id of ``figures.PAPER_IDS`` must be
 #: registered by one of them (``tests/test_registry_cli.py`` checks the exact set).
 _MODULES = ("background", "mo2015", "dey2009", "leong2011", "zheng2014", "zheng2014.vector",
-            "zheng2014.nonlinear", "synthesis", "explorable.mo2015")
+            "zheng2014.nonlinear", "synthesis", "explorable")
 _LOADED = False
 
 

@@ -8,3 +8,13 @@ chapters show it with :func:`fusioncenter.explore.explore` and the site's
 so the slider shows nothing that ``python -m fusioncenter compute ID --set NAME=VALUE`` would
 not.
 """
+
+import importlib as _importlib
+import pkgutil as _pkgutil
+
+# Importing the package registers every part's entry (the registry's _load imports it); the
+# lazy index imports only the module of the entry asked for.
+#: The ids of the entries every module of the package registers (the registry's ``own_ids``).
+OWN_IDS: tuple[str, ...] = ()
+for _module in _pkgutil.iter_modules(__path__):
+    OWN_IDS += _importlib.import_module(f"{__name__}.{_module.name}").OWN_IDS
