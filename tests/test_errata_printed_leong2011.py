@@ -428,3 +428,32 @@ def test_vector_inversion_lemma_needs_cbar_not_its_transpose():
         else:
             X_printed = C_bar.T @ np.linalg.inv(R_bar) @ C_bar.T
             assert not identity_holds(C_bar, R_bar, P, X_printed)
+
+
+# ---------------------------------------------------------------- Appendix C, first sentence
+
+@erratum("erratum-leong2011-appc-sum-signs")
+def test_appendix_c_first_bound_needs_the_absolute_values():
+    """Lemma 4 allows c_i of either sign (c_min <= |c_i| <= c_max). The printed
+    M h_min c_min <= sum_i h_i c_i <= M h_max c_max fails for alternating signs (the sum is 0,
+    or negative); with |c_i| it holds on every random network, and sum_i h_i |c_i| is the
+    c_bar = sum_i alpha_i h_i c_i of the choice alpha_i = sgn(c_i) that the proof then makes."""
+    rng = np.random.default_rng(4)
+
+    def holds(M, h, c, cs):
+        lo, hi = M * h.min() * np.abs(c).min(), M * h.max() * np.abs(c).max()
+        return bool(lo - 1e-12 <= cs <= hi + 1e-12)
+
+    M, h, c = 4, np.full(4, 0.8), np.array([1.0, -1.0, 1.0, -1.0])
+    assert not holds(M, h, c, np.sum(h * c))  # printed: 0 < 3.2
+    c_neg = -np.array([0.6, 0.9, 0.7])
+    assert not holds(3, np.array([0.5, 1.0, 0.7]), c_neg, np.sum(np.array([0.5, 1.0, 0.7]) * c_neg))
+    fails = 0
+    for _ in range(1000):
+        M = int(rng.integers(1, 30))
+        h = rng.uniform(0.5, 1.0, M)
+        c = rng.uniform(0.5, 1.0, M) * rng.choice([-1.0, 1.0], M)
+        assert holds(M, h, c, np.sum(h * np.abs(c)))  # corrected
+        assert np.sum(np.sign(c) * h * c) == pytest.approx(np.sum(h * np.abs(c)))
+        fails += not holds(M, h, c, np.sum(h * c))
+    assert fails > 900

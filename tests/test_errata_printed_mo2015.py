@@ -164,6 +164,39 @@ def test_printed_mean_with_P_is_not_the_posterior_mean_after_silence():
     assert np.max(np.abs(P_sent @ prior_info - mean)) > 0.05
 
 
+def _mean_gap(xbar, Sigma, a, r, d):
+    """The printed mean minus the posterior mean after a silence:
+    (P - P~) Sigma^{-1} x_bar, P = (Sigma^{-1} + a'a/r)^{-1}, P~ = (Sigma^{-1} + a'a/(r+d))^{-1}."""
+    P_sent = np.linalg.inv(np.linalg.inv(Sigma) + a.T @ a / r)
+    P_tilde = np.linalg.inv(np.linalg.inv(Sigma) + a.T @ a / (r + d))
+    return (P_sent - P_tilde) @ np.linalg.solve(Sigma, xbar)
+
+
+@erratum("erratum-mo2015-2-xtilde")
+def test_printed_mean_is_off_by_a_term_that_saturates_in_delta():
+    """How the printed mean is off: P Sigma^{-1} x_bar - P~ Sigma^{-1} x_bar
+    = -Sigma a' (a x_bar) delta / (s (s + delta)), s = a Sigma a' + r. Not proportional to
+    delta (doubling delta does not double it; it tends to -Sigma a' (a x_bar) / s), and zero
+    for every delta when a x_bar = 0."""
+    rng = np.random.default_rng(15)
+    deltas = np.array([0.1, 1.0, 10.0, 1e3, 1e6])
+    for n in (1, 2, 3):
+        xbar, Sigma, a, r, _ = _random_instance(rng, n)
+        s = (a @ Sigma @ a.T).item() + r
+        limit = -(Sigma @ a[0]) * (a @ xbar).item() / s
+        gaps = [_mean_gap(xbar, Sigma, a, r, d) for d in deltas]
+        np.testing.assert_allclose(gaps, [limit * d / (s + d) for d in deltas],
+                                   rtol=1e-6, atol=1e-12)
+        doubled = [np.linalg.norm(_mean_gap(xbar, Sigma, a, r, 2 * d)) / np.linalg.norm(g)
+                   for d, g in zip(deltas, gaps, strict=True)]
+        assert max(abs(q - 2) for q in doubled) > 0.5  # "proportional to delta" fails
+        assert all(np.linalg.norm(g) < np.linalg.norm(limit) for g in gaps)  # bounded
+        if n > 1:  # a x_bar = 0 with x_bar != 0: no gap for any delta
+            xb0 = xbar - a[0] * (a @ xbar).item() / (a @ a.T).item()
+            assert np.linalg.norm(xb0) > 0.01
+            assert np.max(np.abs(_mean_gap(xb0, Sigma, a, r, 5.0))) < 1e-10
+
+
 @erratum("erratum-mo2015-2-ptilde")
 def test_printed_covariance_P_is_not_the_covariance_after_silence():
     """The conclusion "Gaussian with mean x~ and covariance P": the covariance given gamma = 0

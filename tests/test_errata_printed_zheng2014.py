@@ -443,3 +443,55 @@ def test_eq48_kl_thresholds_one_way_and_symmetric():
     assert passes(one_way, 0.381, 3.296)
     assert not passes(symmetric, 0.381, 3.296)  # the page's former attribution to (48)
     assert passes(symmetric, 0.591, 4.026)
+
+
+# ===================================================== Section V, before (32): equal dimensions
+def _nis_of_mixed_sensors(n=20_000, T=20, seed=32):
+    """Local Kalman filters of the Section VII model (known x_0) for two sensors of different
+    measurement dimension: sensor 1 sees the position (r = 1), sensor 2 the whole state
+    (R = diag(2, 4), as in Section VII.B). Returns each sensor's NIS, shape (n, T)."""
+    rng = np.random.default_rng(seed)
+    F = np.array([[1.0, 1.0], [0.0, 1.0]])
+    Q = 4.0 * np.array([[0.25, 0.5], [0.5, 1.0]])
+    sensors = [(np.array([[1.0, 0.0]]), np.array([[1.0]])), (np.eye(2), np.diag([2.0, 4.0]))]
+    x = np.tile([0.0, 10.0], (n, 1))
+    est = [x.copy() for _ in sensors]
+    P = [np.zeros((2, 2)) for _ in sensors]
+    nis = [np.empty((n, T)) for _ in sensors]
+    g = np.array([1.0, 2.0])  # Q = g g^T has rank one
+    for k in range(T):
+        x = x @ F.T + rng.standard_normal((n, 1)) * g
+        for i, (H, R) in enumerate(sensors):
+            z = x @ H.T + rng.standard_normal((n, H.shape[0])) @ np.linalg.cholesky(R).T
+            est[i] = est[i] @ F.T
+            P[i] = F @ P[i] @ F.T + Q
+            S = H @ P[i] @ H.T + R
+            nu = z - est[i] @ H.T
+            nis[i][:, k] = np.einsum("ni,ij,nj->n", nu, np.linalg.inv(S), nu)
+            K = P[i] @ H.T @ np.linalg.inv(S)
+            est[i] = est[i] + nu @ K.T
+            P[i] = P[i] - K @ S @ K.T
+    return nis
+
+
+@erratum("erratum-zheng2014-5-before-32-equal-dimensions")
+def test_one_threshold_for_innovations_of_different_dimensions_misses_l():
+    """N = 2, l = 1, innovations of dimension 1 and 2. The assumption of equal dimensions is
+    not without loss of generality: the one threshold (32) (whichever n_nu it takes) gives
+    on average 0.74 or 1.30 active sensors, not l = 1; per-sensor thresholds chi2_{n_i}(l/N)
+    give l (exactly, and in a simulation of the local Kalman filters)."""
+    nis = _nis_of_mixed_sensors()
+    dims, N, l = (1, 2), 2, 1.0
+
+    def active(etas):
+        exact = sum(scipy.stats.chi2.sf(e, d) for e, d in zip(etas, dims, strict=True))
+        simulated = sum(np.mean(v >= e) for v, e in zip(nis, etas, strict=True))
+        se = math.sqrt(sum(np.var(v >= e) for v, e in zip(nis, etas, strict=True)) / nis[0].size)
+        return exact, simulated, se
+
+    for n_nu in dims:  # printed: one threshold chi2_{n_nu}(l/N) for both sensors
+        exact, simulated, se = active([cs.threshold(l, N, dof=n_nu)] * 2)
+        assert abs(exact - l) > 0.25 and abs(simulated - l) > 0.25
+    exact, simulated, se = active([cs.threshold(l, N, dof=d) for d in dims])  # corrected
+    assert exact == pytest.approx(l, abs=1e-12)
+    assert abs(simulated - l) < 0.01
