@@ -169,3 +169,12 @@ def test_the_front_page_has_the_reading_paths():
     research = text[text.index("(sec-path-research)="):]
     for page in ("scorecard", "errata", "figure-index", "howto"):
         assert f"<{page}>`" in research, page
+
+
+def test_an_explorable_figure_is_referred_to_by_its_label(tmp_path):
+    extra = "\n```{explorable-figure} mo2015-explore\nA slider.\n```\n\n"
+    text = GOOD.replace("## Key ideas\n", extra + "## Key ideas\n")
+    assert any("explore-mo2015-explore" in p for p in shape_of(tmp_path, text).problems())
+    text = text.replace("A slider.\n```\n", "A slider.\n```\n\n{numref}`explore-mo2015-explore`"
+                                            " moves.\n")
+    assert shape_of(tmp_path, text).problems() == []

@@ -5,7 +5,8 @@ second (``shared/GUIDE.md`` section 3; issue 46). Read from the chapter's ``.md`
 
 - ``learn``: the box at the top says what the reader needs ("You need:" with the chapters it
   builds on, linked; the background chapter names outside prerequisites only);
-- ``picture``: a numbered figure (``{book-figure}`` or ``{registry-figure}``) stands in the
+- ``picture``: a numbered figure (``{book-figure}``, ``{registry-figure}`` or
+  ``{explorable-figure}``) stands in the
   chapter's first ``##`` section, before any ``{prf:...}`` statement: the picture of the idea
   comes before the formulas;
 - ``key ideas``: one ``## Key ideas`` section;
@@ -49,7 +50,7 @@ CONTENT_CHAPTERS = (
 #: The median content chapter shows at most this many unfolded code lines before its notes.
 MAX_MEDIAN_CODE_LINES = 40
 FOLDED_TAGS = {"hide-input", "hide-cell", "remove-cell", "remove-input"}
-FIGURE = re.compile(r"^(`{3,}|:{3,})\{(book-figure|registry-figure)\}\s+(\S+)")
+FIGURE = re.compile(r"^(`{3,}|:{3,})\{(book-figure|registry-figure|explorable-figure)\}\s+(\S+)")
 FENCE = re.compile(r"^(`{3,}|:{3,})(\{[^}]*\})?(.*)$")
 NUMREF = re.compile(r"\{numref\}`(?:[^`<]*<)?([^`>]+)>?`")
 NOTES = "Reproduction notes"
@@ -144,7 +145,9 @@ def read_shape(path: str | Path) -> Shape:
         m = FIGURE.match(line)
         if m:
             h2 = len(shape.h2) - 1
-            shape.figures.append((m.group(3), h2))
+            # an explorable figure's label is explore-ID (fusioncenter.explore.name)
+            label = ("explore-" if m.group(2) == "explorable-figure" else "") + m.group(3)
+            shape.figures.append((label, h2))
             if shape.first_figure_line is None:
                 shape.first_figure_line = i
             fence, in_caption = m.group(1), True
