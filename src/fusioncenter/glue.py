@@ -35,7 +35,9 @@ def glue(name: str, variable: Any, display: bool = True) -> None:
         The key the prose refers to (``{glue:text}`name```); a non-empty string.
     variable : object
         The value; what is stored is its display representation (``text/plain`` and any
-        richer MIME type IPython produces for it).
+        richer MIME type IPython produces for it). A NumPy scalar is stored as the Python
+        number it holds: NumPy 2 shows ``np.float64(0.6)``, which a format such as
+        ``{glue:text}`name:.3f``` cannot read.
     display : bool, default True
         Also show the value in the cell's output. ``False`` stores it hidden.
 
@@ -45,6 +47,10 @@ def glue(name: str, variable: Any, display: bool = True) -> None:
     """
     if not isinstance(name, str) or not name:
         raise ValueError(f"name must be a non-empty string, got {name!r}")
+    import numpy as np
+
+    if isinstance(variable, np.generic):
+        variable = variable.item()
     try:
         from myst_nb import glue as myst_glue
     except ImportError:
