@@ -15,7 +15,7 @@ from fusioncenter import cli, explore, figures
 from fusioncenter.explore import Slider
 
 #: Every entry with a slider, and one of its values to compute directly.
-SLIDERS = ["mo2015-explore"]
+SLIDERS = ["mo2015-explore", "dey2009-explore", "leong2011-explore"]
 
 
 @pytest.fixture(scope="module", params=SLIDERS)
@@ -120,3 +120,32 @@ def test_a_slider_needs_a_settable_parameter_and_one_slider_per_entry():
         explore.register(Slider(entry_id="mo2015-explore", parameter="delta", **ok))
     with pytest.raises(KeyError, match="has no slider"):
         explore.get("mo2015-rate")
+
+
+def test_the_dey2009_slider_keeps_every_path_between_the_perfect_channel_and_above():
+    data = explore.frames("dey2009-explore", "fast")
+    assert all(d["min_lower_gap"] >= 0 for d in data)  # ℓ_k ≤ p_k on every path
+    broken = [dict(d) for d in data]
+    broken[5]["mean"] = broken[5]["mean"].copy()
+    broken[5]["mean"][-1] = 1.5 * broken[4]["mean"][-1]  # a mean that rises with the gain
+    claims = explore.sweep_claims("dey2009-explore", broken)
+    assert not next(c for c in claims if "falls as the mean gain" in c.name).passed
+
+
+def test_the_leong2011_mean_snr_is_the_sensor_law_s_mean():
+    from fusioncenter import power
+    from fusioncenter.figures.explorable import leong2011 as mod
+
+    p = mod.MODEL
+    rng = np.random.default_rng(7)
+    sv, d = rng.chisquare(1, 400_000), rng.uniform(*p["d_range"], 400_000)
+    h, c = d**-2.0, np.full(sv.shape, p["c"])
+    rho, tau, kap = power.static_coefficients(p["a"], p["sigma_w2"], h, c, sv)
+    for gamma in (1e-5, 1e-3, 1e-1):
+        s = rho**2 * gamma / (gamma * tau + kap * p["sigma_n2"])
+        s_opt, s_eq = mod.mean_snr(gamma)
+        assert abs(s.mean() - s_opt) < 4 * s.std() / np.sqrt(s.size)
+        e1, e2 = np.mean(rho / np.sqrt(kap)), np.mean(tau / kap)
+        assert abs(gamma * e1**2 / (gamma * e2 + p["sigma_n2"]) / s_eq - 1) < 0.02
+    with pytest.raises(ValueError, match="gamma"):
+        mod.mean_snr(-1.0)
