@@ -326,6 +326,23 @@ def test_reader_notebook_resolves_myst_for_plain_jupyter():
                               "- entry of mo2015\n- entry of dey2009")
 
 
+def test_reader_notebook_resolves_a_role_over_a_line_break_and_an_explorable_caption():
+    md = ("**You need:** {doc}`the\nsecond <../a/b>` and {ref}`the section\n<sec-y>`.\n\n"
+          "```{explorable-figure} mo2015-explore\nAt this value the rate is [[rate]].\n```\n")
+    nb = _executed_notebook(md)
+    nb["cells"][2]["outputs"].append(
+        {"output_type": "display_data", "data": {"text/plain": "<explorable figure>"},
+         "metadata": {"scrapbook": {"name": "explore-mo2015-explore", "mime_prefix": ""},
+                      "fusioncenter": {"start": 1, "frames": [{"facts": {"rate": "0.9"}},
+                                                              {"facts": {"rate": "0.466"}}]}}})
+    out, problems = reader_notebook(nb, _resolver(), page_url="S/p.html", book_title="Book",
+                                    version="9.9.9", macros={})
+    assert problems == []
+    text = out["cells"][2]["source"]
+    assert "[the\nsecond](S/a/b.html)" in text and "[the section](S/y.html#sec-y)" in text
+    assert "> **Figure 7.** At this value the rate is 0.466." in text, text
+
+
 def test_reader_notebook_reports_what_it_cannot_resolve():
     _, problems = reader_notebook(
         _executed_notebook("{doc}`nowhere` and {glue:text}`missing:.2f` and {foo}`bar`"),

@@ -76,6 +76,12 @@ class Resolver:
     cited: list[str] = field(default_factory=list)
 
 
+#: Where :func:`glue_values` keeps an explorable figure's caption facts (not a MIME type).
+FACTS_KEY = "fusioncenter/facts"
+#: A caption's number that follows an explorable figure's slider (book/_ext/explorable.py).
+FACT = re.compile(r"\[\[([a-z0-9_]+)\]\]")
+
+
 def glue_values(nb: dict) -> dict[str, dict]:
     """The glued outputs of an executed notebook: name -> MIME bundle (prefix removed)."""
     out: dict[str, dict] = {}
@@ -87,6 +93,9 @@ def glue_values(nb: dict) -> dict[str, dict]:
             prefix = scrap.get("mime_prefix", "")
             out[scrap["name"]] = {k[len(prefix):] if prefix and k.startswith(prefix) else k: v
                                   for k, v in (o.get("data") or {}).items()}
+            meta = (o.get("metadata") or {}).get("fusioncenter") or {}
+            if meta.get("frames"):  # an explorable figure: its caption's numbers at the start
+                out[scrap["name"]][FACTS_KEY] = meta["frames"][int(meta["start"])]["facts"]
     return out
 
 
@@ -192,7 +201,13 @@ class _Rewriter:
                 i = k + 1
                 continue
             line = EQ_LABEL.sub("$$", line)
-            out.append(self.inline(line))
+            # a role may run over a line break ({doc}`text\n<target>`): take the next lines
+            # of the paragraph until its backquotes close
+            while line.count("`") % 2 and i + 1 < len(lines) and lines[i + 1].strip() \
+                    and not FENCE_OPEN.match(lines[i + 1]):
+                i += 1
+                line = f"{line}\n{lines[i]}"
+            out.extend(self.inline(line).split("\n"))
             i += 1
         return out
 
@@ -215,6 +230,12 @@ class _Rewriter:
         if name == "book-figure":  # the figure is the output of the cell above: its caption
             number = self.r.number(arg)
             head, *rest = inner or [""]
+            quoted = [">", *(f"> {x}" if x.strip() else ">" for x in rest)] if rest else []
+            return [f"> **Figure {number}.** {head}".replace("  ", " ").rstrip(), *quoted]
+        if name == "explorable-figure":  # the small multiples are the output above
+            number = self.r.number(f"explore-{arg}")
+            facts = (self.glue.get(f"explore-{arg}") or {}).get(FACTS_KEY, {})
+            head, *rest = [FACT.sub(lambda m: facts.get(m[1], "…"), x) for x in inner or [""]]
             quoted = [">", *(f"> {x}" if x.strip() else ">" for x in rest)] if rest else []
             return [f"> **Figure {number}.** {head}".replace("  ", " ").rstrip(), *quoted]
         if name == "admonition":
