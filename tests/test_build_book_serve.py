@@ -47,6 +47,8 @@ def test_one_worker_executes_chapters_in_turn_in_new_kernels(tmp_path):
     stdout, stderr = proc.communicate(requests, timeout=300)
     assert proc.returncode == 0, stderr[-2000:]
     assert "no forked kernels" not in stderr
+    # the kernels run on IPC sockets (kernel_fork.LOCAL_KERNELS): no warning about plain TCP
+    assert "without encryption" not in stderr
     results = [json.loads(line[len(build_book.RESULT):]) for line in stdout.splitlines()
                if line.startswith(build_book.RESULT)]
     assert [r["error"] for r in results] == [None, "CellExecutionError", None]

@@ -76,6 +76,32 @@ def test_a_forked_kernel_has_what_a_new_kernel_has(warm, tmp_path):
     assert "kernel_fork: forked" in warm.read_text()
 
 
+def test_local_kernels_talk_over_ipc_and_print_no_tcp_warning(warm, tmp_path):
+    """With :func:`kernel_fork.local_kernel_config` (build_book, make_golden) a forked kernel
+    runs on IPC sockets, and ipykernel's warning about unencrypted TCP, which the same kernel
+    prints over TCP, is not printed."""
+    from jupyter_client.manager import KernelManager
+
+    warning = "Kernel is running over TCP without encryption"
+    seen = {}
+    for transport, config in (("tcp", None), ("ipc", kernel_fork.local_kernel_config())):
+        err = tmp_path / f"{transport}.err"
+        km = KernelManager(kernel_name=kernel_fork.KERNEL_NAME, config=config)
+        with err.open("w") as stream:
+            km.start_kernel(cwd=str(tmp_path), stderr=stream)
+        try:
+            assert km.transport == transport
+            assert _run(km, "print(6 * 7)")[0] == "42\n"
+            info = km.get_connection_info()
+            assert info["transport"] == transport
+            if transport == "ipc":
+                assert os.path.isabs(info["ip"]) and not list(tmp_path.glob("kernel-ipc*"))
+        finally:
+            km.shutdown_kernel(now=True)
+        seen[transport] = warning in err.read_text()
+    assert seen == {"tcp": True, "ipc": False}
+
+
 def test_interrupt_and_kill_reach_the_forked_kernel(warm, tmp_path):
     km = _start(kernel_fork.KERNEL_NAME, tmp_path)
     try:

@@ -15,6 +15,11 @@ Two stages:
    the code cells), so that:
 2. **rendering**: ``jupyter-book build`` finds every chapter cached and only renders.
 
+What it prints: a line per chapter executed, then jupyter-book's, quiet (``-q``: Sphinx's
+warnings, not its progress through each file), then the times and the site's ``index.html``.
+The kernels talk to their clients over IPC sockets (``kernel_fork.LOCAL_KERNELS``), so
+ipykernel has no unencrypted TCP to warn about.
+
 Registry results are shared between the chapters (and their parallel kernels) through
 ``FUSIONCENTER_COMPUTE_CACHE`` (atomic writes: see ``Entry.run_compute``): a folder of the build,
 wiped with it, or the one ``--compute-cache`` names (whoever passes it keeps it current).
@@ -163,10 +168,14 @@ def execute_one(src: Path, dest: Path, kernel_name: str | None = None) -> dict:
     ``{"seconds", "error", "traceback"}`` (``error`` the exception's name, or ``None``).
     ``kernel_name``: the kernelspec to run it with (:func:`serve`: the forked kernels of
     tools/kernel_fork.py); nbclient leaves the notebook's kernelspec metadata as it was."""
+    import kernel_fork
     import nbformat
     from jupyter_cache.executors.utils import single_nb_execution
 
-    extra = {"kernel_name": kernel_name} if kernel_name else {}
+    # the kernel on IPC sockets, not loopback TCP (kernel_fork.LOCAL_KERNELS)
+    extra = {"config": kernel_fork.local_kernel_config()}
+    if kernel_name:
+        extra["kernel_name"] = kernel_name
     for attempt in range(1 + KERNEL_START_RETRIES):
         nb = _read(src)
         try:
@@ -511,7 +520,9 @@ def main(argv: list[str] | None = None) -> int:
 
     _STAGE[0] = "rendering"
     jb = Path(sys.executable).with_name("jupyter-book")
-    cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html"]
+    # -q: Sphinx's warnings (errors under --strict) and jupyter-book's summary, not its
+    # progress through each of the ~115 files for reading and again for writing
+    cmd = [str(jb), "build", str(ROOT), "--path-output", str(out), "--builder", "html", "-q"]
     if args.strict:
         cmd += ["-n", "-W", "--keep-going"]
     print("build_book:", " ".join(cmd), file=sys.stderr, flush=True)

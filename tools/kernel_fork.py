@@ -52,6 +52,16 @@ import time
 from pathlib import Path
 
 KERNEL_NAME = "fusioncenter-fork"
+#: How the book's tools start local kernels (jupyter_client's own settings,
+#: ``KernelManager.transport`` and ``.ip``): kernel and client talk over Unix sockets (IPC) in
+#: Jupyter's runtime folder (mode 0700), not over TCP on the loopback. ipykernel >= 7.3 warns at
+#: every kernel started over TCP without CurveZMQ keys ("Kernel is running over TCP without
+#: encryption...": 29 times in a build); over IPC nothing goes through the network stack, and
+#: no two kernels started at the same moment can race for a port. :func:`local_kernel_config`
+#: is what nbclient takes: it adds the sockets' absolute path prefix, one per kernel (the
+#: default, a relative ``kernel-ipc``, is resolved by the kernel in the chapter's folder and by
+#: the client in its own, and they never meet).
+LOCAL_KERNELS = {"KernelManager": {"transport": "ipc"}}
 #: ipykernel's default backend (IPKernelApp.init_gui_pylab sets it unless MPLBACKEND is set)
 INLINE = "module://matplotlib_inline.backend_inline"
 SOCKET_ENV = "FUSIONCENTER_KERNEL_FORK"
@@ -78,6 +88,27 @@ PRELOAD = [
     # glues a number (23 of 29), 41 s of the nbval shards' CPU in a fresh make test
     "myst_nb.ext.glue",
 ]
+
+
+def local_kernel_config():
+    """A traitlets ``Config`` of :data:`LOCAL_KERNELS` for one kernel, for
+    ``NotebookClient(config=...)`` (and jupyter-cache's ``single_nb_execution``, which passes
+    it on): its kernel manager starts the kernel on IPC sockets named
+    ``<runtime dir>/fusioncenter-<random>-ipc-<n>``, which it removes at the kernel's shutdown.
+    """
+    import copy
+    import uuid
+
+    from jupyter_core.paths import jupyter_runtime_dir
+    from jupyter_core.utils import ensure_dir_exists
+    from traitlets.config import Config
+
+    runtime = jupyter_runtime_dir()
+    ensure_dir_exists(runtime, 0o700)
+    config = Config(copy.deepcopy(LOCAL_KERNELS))
+    # a Unix socket's path has at most 107 bytes: the runtime folder is short enough
+    config.KernelManager.ip = os.path.join(runtime, f"fusioncenter-{uuid.uuid4().hex[:12]}-ipc")
+    return config
 
 
 def _send(sock: socket.socket, obj: dict, fds: list[int] = ()) -> None:

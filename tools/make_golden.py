@@ -22,6 +22,7 @@ from nbclient import NotebookClient
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from chapters import GOLDEN, ROOT, golden_path, notebook_chapters, source  # noqa: E402
+from kernel_fork import local_kernel_config  # noqa: E402
 
 DROP_MIME = ("image/png", "image/jpeg", "image/svg+xml", "application/pdf")
 
@@ -54,7 +55,8 @@ def build(docname: str) -> Path:
     os.environ["FUSIONCENTER_PROFILE"] = "fast"
     os.environ["FUSIONCENTER_STATIC_FIGURES"] = "1"  # the site's outputs (fusioncenter.explore)
     try:
-        NotebookClient(nb, timeout=1800, kernel_name="python3",
+        # the kernel on IPC sockets, not loopback TCP (tools/kernel_fork.py, LOCAL_KERNELS)
+        NotebookClient(nb, timeout=1800, kernel_name="python3", config=local_kernel_config(),
                        resources={"metadata": {"path": str(src.parent)}}).execute()
     finally:
         if env_before is None:
