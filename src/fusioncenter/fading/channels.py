@@ -97,12 +97,12 @@ def exp_e1(x):
     return out[()] if out.ndim == 0 else out
 
 
-def _x_exp_e1(m: np.ndarray) -> np.ndarray:
-    """``m e^m E1(m)`` in (0, 1), with the limits 0 at ``m = 0`` and 1 at ``m = inf``."""
-    m = np.asarray(m, dtype=float)
+def _x_exp_e1(mu: np.ndarray) -> np.ndarray:
+    """``μ e^μ E1(μ)`` in (0, 1), with the limits 0 at ``μ = 0`` and 1 at ``μ = inf``."""
+    mu = np.asarray(mu, dtype=float)
     with np.errstate(invalid="ignore"):
-        out = np.where(m > 0, m * exp_e1(np.where(m > 0, m, 1.0)), 0.0)
-    return np.where(np.isposinf(m), 1.0, out)
+        out = np.where(mu > 0, mu * exp_e1(np.where(mu > 0, mu, 1.0)), 0.0)
+    return np.where(np.isposinf(mu), 1.0, out)
 
 
 def _gamma_ratio(z: np.ndarray, m: float) -> np.ndarray:
@@ -213,15 +213,16 @@ class Rayleigh(_PowerGainLaw):
         return self.lam * exp_e1(self.lam * b)
 
     def ratio_mean(self, b):
-        """``g(b) = E[b / (r + b)] = m e^m E1(m)``, ``m = lam b`` (in [0, 1]; 0 at ``b = 0``)."""
+        """``g(b) = E[b / (r + b)] = μ e^μ E1(μ)``, ``μ = lam b`` (in [0, 1]; 0 at ``b = 0``)."""
         return _x_exp_e1(self.lam * _shift("b", b))
 
     def ratio_mean_bound(self, b):
-        """``m ln(1 + 1/m) >= g(b)``: the inequality ``e^x E1(x) < ln(1 + 1/x)`` used for (18)."""
-        m = self.lam * _shift("b", b)
+        """``μ ln(1 + 1/μ) >= g(b)``, ``μ = lam b``: the inequality ``e^x E1(x) < ln(1 + 1/x)``
+        used for (18)."""
+        mu = self.lam * _shift("b", b)
         with np.errstate(divide="ignore", invalid="ignore"):
-            out = np.where(m > 0, m * np.log1p(1.0 / np.where(m > 0, m, 1.0)), 0.0)
-        return np.where(np.isposinf(m), 1.0, out)
+            out = np.where(mu > 0, mu * np.log1p(1.0 / np.where(mu > 0, mu, 1.0)), 0.0)
+        return np.where(np.isposinf(mu), 1.0, out)
 
 
 @_doc.attributes(raises=(("ValueError", "If ``m`` or ``lam`` is out of range (the message names "

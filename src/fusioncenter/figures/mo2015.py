@@ -501,10 +501,11 @@ def plot_tracking(data: dict):
             rm, se = _rmse(data[f"{key}_mse"][:, c], data[f"{key}_mse_stderr"][:, c])
             ax.errorbar(m * data[f"{key}_rate"], rm, yerr=1.96 * se, mfc="none", capsize=2,
                         label=f"{name}: Monte Carlo ± 1.96 s.e.", **plotting.look(scheme))
-            if key == "stochastic":
+            if key == "stochastic":  # on top of the Monte Carlo line, dots and small stars
                 ax.plot(m * data[f"{key}_rate"], np.sqrt(data[f"{key}_p_avg"][:, c]),
                         label=r"stochastic trigger: filter's own $\sqrt{\text{mean } P_{k|k}}$",
-                        **plotting.look("trigger", marker="None", ls=":", lw=2.2))
+                        zorder=4, markevery=2, markersize=3.5,
+                        **plotting.look("trigger", ls=":", lw=3.0))
         rm, se = _rmse(data["all_send_mse"][c], data["all_send_mse_stderr"][c])
         ax.errorbar([m * data["all_send_rate"]], [rm], yerr=[1.96 * se], capsize=2,
                     label="all-send", **plotting.look("all-send", ls="none", markersize=8))

@@ -229,9 +229,10 @@ def draw_example(rng: np.random.Generator, n: int):
 
 @document(returns=("numpy.ndarray, shape (n, 5)", ""))
 def conditional_chunk(rng: np.random.Generator, n: int, *, delta) -> np.ndarray:
-    """Chapter 4's experiment on :data:`EXAMPLE`: ``(n, 5)`` columns ``[pattern code, e_1, e_2,
-    naive e_1, naive e_2]`` with ``e = x - E(x | I)`` from the notes' formula and the naive error
-    of a centre that drops silent sensors (:func:`drop_posterior`)."""
+    """The experiment of the conditional-mean chapter ("Is it really the conditional mean?") on
+    :data:`EXAMPLE`: ``(n, 5)`` columns ``[pattern code, e_1, e_2, naive e_1, naive e_2]`` with
+    ``e = x - E(x | I)`` from the notes' formula and the naive error of a centre that drops
+    silent sensors (:func:`drop_posterior`)."""
     xbar, Sigma, C, r = example()
     x, y, _ = draw_example(rng, n)
     g = event.sample_trigger(rng, y, delta)

@@ -101,13 +101,13 @@ def scenario() -> censoring.LinearScenario:
 def calibrate(rates, profile: str, seed: int, n_trials: int | None = None) -> np.ndarray:
     """One trigger parameter ``delta`` per per-sensor target rate, the same for both sensors.
 
-    The sensors are identical, so they share ``delta``. A sensor's send probability at step
-    ``t`` is mo2015's ``1 - sqrt(delta / (delta + s_t))`` with ``s_t = h P_{t|t-1} h^T + r``, but
-    ``P_{t|t-1}`` is random (it depends on who sent before), so the 20-step average has no closed
-    form: :func:`fusioncenter.event.calibrate_delta` finds ``delta`` by simulation (common random
-    numbers, tolerance 1e-3 on its own sample), averaging steps ``t = 1..20`` (``burn_in = 1``
-    skips the library's step 0, where ``x_0`` is known), on ``n_trials`` tracks (default:
-    :data:`CALIBRATION_TRIALS` of the profile).
+    The sensors are identical, so they share ``delta``. Sensor ``i`` sends at step ``k`` with
+    Part I's probability ``1 - sqrt(delta / (delta + s_{i,k}))``, ``s_{i,k}`` its innovation
+    variance ``c_i^T P_{k|k-1} c_i + r_i``; but ``P_{k|k-1}`` is random (it depends on who sent
+    before), so the 20-step average has no closed form: :func:`fusioncenter.event.calibrate_delta`
+    finds ``delta`` by simulation (common random numbers, tolerance 1e-3 on its own sample),
+    averaging steps ``k = 1..20`` (``burn_in = 1`` skips the library's step 0, where ``x_0`` is
+    known), on ``n_trials`` tracks (default: :data:`CALIBRATION_TRIALS` of the profile).
     """
     model = tracking_model(PROBLEM["N"], sigma2=PROBLEM["sigma2"], r=PROBLEM["r"],
                            x0=PROBLEM["x0"])
@@ -574,47 +574,47 @@ _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 @plot_doc()
 def plot_fading(data: dict):
-    """(a) RMSE, (b) packets against the outage; (c) error over tr P; (d) RMSE at equal energy."""
-    fig, axes = plotting.subplots(2, 2, stack=True)
-    (a, b), (c, d) = axes
-    eps = data["outage"]
+    """(a) RMSE, (b) what the naive receiver costs, (c) packets, (d) error over tr P, (e) energy."""
+    fig, (a, b, c, d, e) = plotting.subplots(5, 1, stack=True, height_ratios=[5, 3, 3, 3, 3])
+    eps, xl = data["outage"], r"outage probability $\varepsilon$ per packet"
     for key, name, scheme, ls in _FADING_SERIES:
-        style = {**plotting.look(scheme, ls=ls), "capsize": 2}
-        if "naive" in key:
-            style["mfc"] = "none"
-        a.errorbar(eps, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], label=name,
-                   **style)
+        style = plotting.look(scheme, ls=ls, capsize=2, mfc="none" if ls == ":" else None)
+        if ls == ":":  # a naive receiver (hollow markers): in (b), its cost over its twin
+            diff = key.replace("_naive", "_naive_minus_csi")
+            b.errorbar(eps, data[diff], yerr=1.96 * data[f"{diff}_se"], **style,
+                       label=name.split(",")[0] + ": naive minus channel-aware receiver")
+        else:  # the trigger's stars on top: at outage 0 they sit on CFoMD's triangles
+            a.errorbar(eps, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], label=name,
+                       **style, zorder=3 if scheme == "trigger" else 2)
         if key != "allsend":
-            b.errorbar(eps, data[f"{key}_rate"], yerr=1.96 * data[f"{key}_rate_se"], label=name,
+            c.errorbar(eps, data[f"{key}_rate"], yerr=1.96 * data[f"{key}_rate_se"], label=name,
                        **style)
         if key in ("allsend", "trigger_csi", "trigger_naive"):
             ratio = data[f"{key}_mse_state"] / data[f"{key}_trace"]
-            c.plot(eps, ratio, label=name, **{k: v for k, v in style.items() if k != "capsize"})
-    plotting.log_axis(a)
-    a.set(xlabel=r"outage probability $\varepsilon$ per packet",
-          ylabel="position RMSE, 20-step average (m)",
-          title=f"(a) budget l = {data['l']:g}; {data['n_trials']} paired trials")
-    a.legend()
-    b.set(xlabel=r"outage probability $\varepsilon$ per packet",
-          ylabel="transmissions per step (packets sent)",
-          title="(b) what each scheme spends (all-send: 2)")
-    c.axhline(1.0, color="0.5", lw=0.8)
-    c.set(xlabel=r"outage probability $\varepsilon$ per packet",
-          ylabel=r"mean $\|x - \hat x\|^2$ / mean tr $P$ (-)",
-          title="(c) does the Kalman filter know its own error?")
-    c.legend()
-    e1 = data["energy_outage_full"]
+            d.plot(eps, ratio, label=name, **{k: v for k, v in style.items() if k != "capsize"})
     for key, name, scheme in [("energy_allsend", "all-send at $\\varepsilon_1$", "all-send"),
                               ("energy_random", "random selection, same energy", "random"),
                               ("energy_trigger", "trigger (knows channel), same energy",
                                "trigger")]:
-        d.errorbar(e1, data[f"{key}_pos"], yerr=1.96 * data[f"{key}_pos_se"], capsize=2,
-                   label=name, **plotting.look(scheme))
-    plotting.log_axis(d)
-    d.set(xlabel=r"outage $\varepsilon_1$ of one packet per sensor and step",
-          ylabel="position RMSE, 20-step average (m)",
-          title="(d) energy, not packets, as the budget")
-    d.legend()
+        e.errorbar(data["energy_outage_full"], data[f"{key}_pos"], capsize=2, label=name,
+                   yerr=1.96 * data[f"{key}_pos_se"], **plotting.look(scheme))
+    rmse = "position RMSE, 20-step average (m)"
+    a.set(xlabel=xl, ylabel=rmse, title=f"(a) budget l = {data['l']:g}; {data['n_trials']} "
+          "paired trials; the naive receivers are in (b)")
+    b.set(xlabel=xl, ylabel="RMSE, naive minus aware (m)",
+          title="(b) what reading a lost packet as silence costs (paired, 95 % bars)")
+    c.set(xlabel=xl, ylabel="transmissions per step (packets sent)",
+          title="(c) what each scheme spends (all-send: 2)")
+    d.set(xlabel=xl, ylabel=r"mean $\|x - \hat x\|^2$ / mean tr $P$ (-)",
+          title="(d) does the Kalman filter know its own error?")
+    e.set(xlabel=r"outage $\varepsilon_1$ of one packet per sensor and step", ylabel=rmse,
+          title="(e) energy, not packets, as the budget")
+    b.axhline(0.0, color="0.5", lw=0.8)
+    d.axhline(1.0, color="0.5", lw=0.8)
+    for ax in (a, b, c, d, e):
+        ax.legend()
+    plotting.log_axis(a)
+    plotting.log_axis(e)
     return plotting.finish(fig)
 
 
@@ -681,10 +681,10 @@ def checks_fading(data: dict) -> list[Claim]:
 register_figure(
     id="synthesis-fading",
     paper="book",
-    caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; a "
-    "packet is lost when the power gain is below a threshold), the receiver knowing the gains or "
-    "naive (a missing packet read as silence): (a) position RMSE and (b) packets sent against the "
-    "outage; (c) Kalman filters' mean squared error over mean tr P; (d) RMSE at equal energy.",
+    caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; "
+    "lost below a power-gain threshold), the receiver knowing the gains or naive (a lost packet "
+    "read as silence). Against the outage: (a) position RMSE, (b) the naive receivers' paired "
+    "excess RMSE, (c) packets sent, (d) mean squared error / mean tr P; (e) RMSE at equal energy.",
     chapter=CHAPTER,
     label="sec-synthesis-fading",
     parameters={**PROBLEM, "l": FADING_L, "outages": list(OUTAGES), "channel":

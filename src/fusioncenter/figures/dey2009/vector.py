@@ -60,8 +60,8 @@ def _theorem33_by_quadrature(Z, A, c, Sw, sv2, sn2, lam) -> np.ndarray:
 @compute_doc("""``k`` (101,), ``n_paths``, ``seed``; ``mean_triu``, ``stderr_triu`` (101, 3) the
              Monte Carlo mean of (P11, P12, P22) and its standard error; ``Z`` (101, 2, 2) the
              bounding sequence; ``theta`` (:data:`N_DIRECTIONS`,) directions and ``mean_vPv``,
-             ``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v'E[P_k]v and
-             v'Zbar_k v; ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which
+             ``stderr_vPv``, ``Z_vPv`` (101, directions) the quadratic forms v^T E[P_k] v
+             and v^T Zbar_k v; ``min_eig_Z_minus_mean`` (101,); ``quad_k`` (5,) steps at which
              ``Z_next_quadrature`` (5, 2, 2) evaluates Theorem 3.3's recursion (14) by
              quadrature; ``window_diff`` and ``window_diff_stderr`` (float) for the trace; with
              ``lam`` overridden, ``lam``.""",
@@ -124,7 +124,8 @@ def plot_vector(data: dict):
     ratio = data["mean_vPv"][-1] / data["Z_vPv"][-1]
     se = data["stderr_vPv"][-1] / data["Z_vPv"][-1]
     plotting.errorband(ax2, data["theta"], ratio, se, color=plotting.OKABE_ITO[0], ls="-",
-                       label=r"$v'E[P_{100}]v\,/\,v'\bar Z_{100}v$ ± 1.96 s.e.")
+                       label=rf"$v^\top E[P_{{{k[-1]}}}]\,v\,/\,v^\top \bar Z_{{{k[-1]}}}\,v$"
+                       " ± 1.96 s.e.")
     ax2.axhline(1.0, color="0.2", lw=0.8, label="bound")
     ax2.set(xlabel=r"direction $v = (\cos\theta, \sin\theta)$: angle $\theta$ (rad)",
             ylabel="ratio of quadratic forms (dimensionless)", title="PSD order, steady state")
