@@ -30,14 +30,14 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     P_post = measurement_update(P, C, R, check=check, r_singular=r_singular)
     if P.ndim == 2 and np.ndim(C) == 2 and np.ndim(R) == 2:
         S = C @ P @ C.T + R
-        K = solve_psd(S, C @ P, singular=r_singular).T  # R = 0: the R -> 0 limit
+        K = solve_psd(S, C @ P, singular=r_singular, check=False).T  # R = 0: the R -> 0 limit
         if r_singular:  # S may be singular: the innovations must lie in its range
             _v.consistent("innov", S, innov.T, _scale(x, C, innov))
         x_post = x + innov @ K.T
         return x_post, P_post, x_post @ A.T, A @ P_post @ A.T + Q
     PCt = P @ np.swapaxes(C, -1, -2)  # (n, nx, m)
     S = C @ PCt + R
-    w = solve_psd(S, innov[..., None], singular=r_singular)  # S^{-1} innov
+    w = solve_psd(S, innov[..., None], singular=r_singular, check=False)  # S^{-1} innov
     if r_singular:
         _v.consistent("innov", S, innov[..., None], _scale(x, C, innov))
     x_post = x + (PCt @ w)[..., 0]

@@ -17,9 +17,13 @@ the input unchanged, not symmetrized), so accepting an input does not change any
 * ``positive(name, value, what="a variance") -> ndarray``: finite and ``> 0``.
 * ``nonneg(name, value, what=None) -> ndarray``: finite and ``>= 0``.
 * ``one_of(name, value, options)``: ``value`` must be one of ``options``.
+* ``flags(name, value) -> ndarray``: booleans (or integers 0/1), as a bool array.
+* ``generator(name, value)``: a ``numpy.random.Generator``.
 * ``covariance(name, value, *, definite=False, n=None, batch=False) -> ndarray``: a finite,
   square, symmetric, positive semi-definite (or definite) matrix, or a stack of them.
 * ``square(name, arr) -> ndarray``: a 2-D array must be square (a state transition ``A``).
+* ``nonempty(name, arr, what) -> ndarray``: the last axis (a state or a sensor axis) must not
+  have length 0 (a 0x0 state matrix is not a model).
 * ``finite_result(name, value, why) -> ndarray``: a computed result must be finite (raises
   ``ValueError`` saying why it is not: an overflow the inputs caused).
 * ``shape_is(name, arr, shape, what)``: ``arr.shape`` must equal ``shape`` (``None`` entries
@@ -43,7 +47,8 @@ import numpy as np
 from fusioncenter._docstrings import Glossary
 
 __all__ = ["is_text", "as_float", "posint", "integer", "finite", "positive", "nonneg", "one_of",
-           "covariance", "square", "finite_result", "shape_is", "broadcast", "received",
+           "flags", "generator",
+           "covariance", "square", "nonempty", "finite_result", "shape_is", "broadcast", "received",
            "consistent", "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
 
 #: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
@@ -104,12 +109,14 @@ def is_text(value) -> bool:
 
 
 @_doc(returns=("numpy.ndarray", "``numpy.asarray(value, dtype=float)`` (0-d for a scalar)."),
-      raises=(("ValueError", "If ``value`` is text or not convertible to floats."),))
+      raises=(("ValueError", "If ``value`` is text, complex or not convertible to floats."),))
 def as_float(name: str, value) -> np.ndarray:
-    """A float array, any values (NaN and infinities allowed); text refused."""
+    """A float array, any values (NaN and infinities allowed); text and complex refused."""
     if is_text(value):
         raise ValueError(f"{name} must be a real number or array of them, not text, "
                          f"got {value!r}")
+    if np.iscomplexobj(value):  # NumPy would drop the imaginary part with a warning
+        raise ValueError(f"{name} must be real, not complex, got {value!r}")
     try:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -171,6 +178,28 @@ def one_of(name: str, value, options) -> None:
         raise ValueError(f"{name} must be one of {options}, got {value!r}")
 
 
+@_doc(returns=("numpy.ndarray", "``value`` as a bool array."),
+      value=("array_like", "Booleans, or integers that are all 0 or 1."),
+      raises=(("ValueError", "If ``value`` holds anything else (``0.5``, ``2``, text)."),))
+def flags(name: str, value) -> np.ndarray:
+    """Booleans (e.g. who sent, which packet was lost); integers 0/1 accepted."""
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "biu" or (arr.dtype.kind != "b" and np.any((arr != 0)
+                                                                        & (arr != 1))):
+        raise ValueError(f"{name} must hold booleans (or 0/1), got {value!r}")
+    return arr.astype(bool)
+
+
+@_doc(returns=("numpy.random.Generator", "``value``, unchanged."), value=_ANY,
+      raises=(("ValueError", "If ``value`` is not a ``numpy.random.Generator`` (a seed is "
+                             "not: the caller\nspawns from the generator)."),))
+def generator(name: str, value) -> np.random.Generator:
+    """A ``numpy.random.Generator``."""
+    if not isinstance(value, np.random.Generator):
+        raise ValueError(f"{name} must be a numpy.random.Generator, got {value!r}")
+    return value
+
+
 @_doc(returns=("numpy.ndarray", "The matrix as floats, unchanged (not symmetrized)."),
       value=("array_like", "A matrix ``(n, n)``, or with ``batch=True`` a stack ``(..., n, n)`` "
                            "of them."),
@@ -213,6 +242,18 @@ def square(name: str, arr: np.ndarray) -> np.ndarray:
     """A matrix must be square."""
     if arr.shape != (arr.shape[0],) * 2:
         raise ValueError(f"{name} must be square, got {arr.shape}")
+    return arr
+
+
+@_doc(returns=("numpy.ndarray", "``arr``, unchanged."),
+      arr=("numpy.ndarray", "An array whose last axis is the state (or the sensors)."),
+      what=("str", "What the axis is, quoted in the message."),
+      raises=(("ValueError", "If ``arr`` has no axis or its last axis has length 0."),))
+def nonempty(name: str, arr, what: str = "a state of dimension 0 is not a model") -> np.ndarray:
+    """The last axis of ``arr`` must not be empty (e.g. a ``0x0`` state matrix)."""
+    shape = np.shape(arr)
+    if not shape or shape[-1] == 0:
+        raise ValueError(f"{name} must not be empty ({what}), got shape {shape}")
     return arr
 
 

@@ -69,7 +69,8 @@ class LinearGaussianModel:
     Raises
     ------
     ValueError
-        Naming the field that is not finite, has the wrong shape, or is not a covariance.
+        Naming the field that is not finite, has the wrong shape (``A`` ``0x0``: no state), or
+        is not a covariance.
     """
 
     A: np.ndarray
@@ -80,7 +81,7 @@ class LinearGaussianModel:
     P0: np.ndarray
 
     def __post_init__(self) -> None:
-        A = _v.square("A", _matrix("A", self.A))
+        A = _v.nonempty("A", _v.square("A", _matrix("A", self.A)))
         n = A.shape[0]
         C = _matrix("C", self.C)
         if C.shape[1] != n:
@@ -223,7 +224,7 @@ class KalmanStep(NamedTuple):
 
 
 def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
-                check: bool = False) -> KalmanStep:
+                check: bool = True) -> KalmanStep:
     """One Kalman-filter step over many trials: measurement update, then time update.
 
     ``S = C P C^T + R``, ``x_post = x + P C^T S^{-1} innov``, ``P_post = P - P C^T S^{-1} C P``
@@ -263,8 +264,9 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
         :func:`fusioncenter.riccati.solve_psd`); computed with
         :func:`fusioncenter.riccati.singular` when omitted.
     check : bool
-        Check that ``P`` and ``R`` are covariances (a filter passes ``True`` at its first step
-        only: later covariances are its own).
+        Check that ``P``, ``R`` and ``Q`` are covariances (symmetric PSD; default). ``False``
+        trusts them (covariances the caller computed itself, e.g. a filter's own after its first
+        step); shapes and finiteness are checked either way.
 
     Returns
     -------
@@ -275,12 +277,17 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     ------
     ValueError
         If an argument is not finite or has the wrong shape (the message names it and the
-        expected shape); with ``check=True`` also if ``P`` or ``R`` is not symmetric PSD; if
+        expected shape), or ``P`` is ``0x0`` (no state); with ``check=True`` also if ``P``,
+        ``R`` or ``Q`` is not symmetric PSD; if
         ``R`` is singular and an innovation has a component along a direction with ``S = C P
         C^T + R`` zero (``P = 0`` and ``R = 0`` there: the measurement contradicts the model,
         no posterior exists; a zero innovation there is fine).
     """
+    x, P, innov, C, R, A, Q = (_v.finite(k, v) for k, v in zip(
+        ("x", "P", "innov", "C", "R", "A", "Q"), (x, P, innov, C, R, A, Q), strict=True))
     _step_shapes(x, P, innov, C, R, A, Q)
+    if check:
+        _v.covariance("Q", Q)
     return KalmanStep(*_kalman_core.kalman_step(x, P, innov, C, R, A, Q,
                                               r_singular=r_singular, check=check))
 
@@ -290,6 +297,7 @@ def _step_shapes(x, P, innov, C, R, A, Q) -> None:
     nx = np.shape(P)[-1] if np.ndim(P) >= 2 else None
     if nx is None or np.shape(P)[-2] != nx:
         raise ValueError(f"P must be (nx, nx) or (n, nx, nx), got shape {np.shape(P)}")
+    _v.nonempty("P", P)
     _v.shape_is("A", A, (nx, nx), f"P is {nx}x{nx}")
     _v.shape_is("Q", Q, (nx, nx), f"P is {nx}x{nx}")
     _v.shape_is("C", C, (..., None, nx), f"P is {nx}x{nx}")

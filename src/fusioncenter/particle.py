@@ -56,9 +56,11 @@ import numpy as np
 
 from fusioncenter import _kernels, _transition_kernels, _ziggurat
 from fusioncenter._docstrings import Glossary
+from fusioncenter._validate import as_float as _v_as_float
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import is_text
+from fusioncenter._validate import nonempty as _nonempty
 from fusioncenter._validate import square as _square
 
 __all__ = [
@@ -273,8 +275,16 @@ def by_component(x) -> np.ndarray:
     -------
     numpy.ndarray
         The same values ``(n, P, d)``, with strides ``(d P, 1, P)`` elements.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is text or not 3-D (the values are copied as they are: a layout, not a
+        computation, so NaN stays NaN).
     """
-    x = np.asarray(x, dtype=float)
+    x = _v_as_float("x", x)
+    if x.ndim != 3:
+        raise ValueError(f"x must be particles (n, P, d), got shape {x.shape}")
     return np.ascontiguousarray(np.swapaxes(x, 1, 2)).swapaxes(1, 2)
 
 
@@ -302,10 +312,10 @@ def psd_factor(M, *, rtol: float = 1e-12) -> np.ndarray:
     Raises
     ------
     ValueError
-        If ``M`` is not finite, not square, not symmetric or not PSD, or ``rtol`` is out of
-        range.
+        If ``M`` is not finite, not square (or ``0x0``), not symmetric or not PSD, or ``rtol``
+        is out of range.
     """
-    M = _covariance("M", M)
+    M = _nonempty("M", _covariance("M", M), "a 0x0 covariance has no state")
     rtol = float(_finite("rtol", rtol))
     if not 0.0 <= rtol < 1.0:
         raise ValueError(f"rtol must lie in [0, 1), got {rtol!r}")
@@ -354,7 +364,8 @@ class LinearGaussianDynamics:
     ------
     ValueError
         If ``A`` and ``F`` are both given or both missing, or a field is not finite, of the
-        wrong shape or (``Q``, ``P0``) not a covariance; the message names it.
+        wrong shape (``A`` ``0x0``: no state) or (``Q``, ``P0``) not a covariance; the message
+        names it.
     """
 
     A: np.ndarray
@@ -366,7 +377,7 @@ class LinearGaussianDynamics:
         if (A is None) == (F is None):
             raise ValueError("give the state transition once, as A (or its alias F)")
         name, A = ("A", A) if F is None else ("F", F)
-        A = _square(name, _matrix(name, A))
+        A = _nonempty(name, _square(name, _matrix(name, A)))
         d = A.shape[0]
         mean = np.asarray(m0, dtype=float).reshape(-1)
         if mean.shape != (d,) or not np.all(np.isfinite(mean)):

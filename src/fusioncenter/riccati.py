@@ -305,7 +305,7 @@ def singular(R) -> bool:
     return bool(np.any(low <= PINV_RCOND * scale))
 
 
-def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
+def solve_psd(S, B, *, singular: bool = False, check: bool = True) -> np.ndarray:
     """``S^{-1} B`` for a (batch of) symmetric PSD ``S``, e.g. an innovation covariance.
 
     With ``singular=False`` this is ``numpy.linalg.solve``, falling back to the pseudo-inverse
@@ -314,8 +314,10 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
     the largest treated as zero: noise-free sensors measuring directions the prior already knows
     up to rounding, the limit of the Kalman gain as ``R -> 0``. Where the diagonal of ``S``
     spans more than ``1 / PINV_RCOND`` the rows and columns are first scaled to a unit diagonal,
-    so that a well-determined small direction is not taken for a zero one. Only finiteness is
-    checked (the callers check their covariances).
+    so that a well-determined small direction is not taken for a zero one. Finiteness and
+    shapes are always checked; with ``check=True`` (default) also that ``S`` is symmetric PSD
+    (the library's own callers, whose ``S = C P C^T + R`` comes from checked covariances, pass
+    ``check=False``: the eigenvalue test would cost as much as the solve).
 
     Parameters
     ----------
@@ -325,6 +327,9 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
         ``(..., m, k)``.
     singular : bool
         Use the thresholded pseudo-inverse.
+    check : bool
+        Check that ``S`` is symmetric PSD (tolerances of
+        :func:`fusioncenter._validate.covariance`).
 
     Returns
     -------
@@ -334,11 +339,22 @@ def solve_psd(S, B, *, singular: bool = False) -> np.ndarray:
     Raises
     ------
     ValueError
-        If ``S`` or ``B`` has a NaN or infinite entry.
+        If ``S`` or ``B`` is text or has a NaN or infinite entry, ``S`` is not a (stack of)
+        square matrices, ``B`` does not have ``m`` rows, or (``check=True``) ``S`` is not
+        symmetric PSD.
     """
-    if not (np.all(np.isfinite(S)) and np.all(np.isfinite(B))):
+    if check:
+        S = _v.covariance("S", S, batch=True)
+        B = _v.finite("B", B)
+    elif not (np.all(np.isfinite(S)) and np.all(np.isfinite(B))):
         raise ValueError("S and B must be finite (an innovation covariance and its right-hand "
                          "side)")
+    if np.ndim(S) < 2 or np.shape(S)[-1] != np.shape(S)[-2]:
+        raise ValueError(f"S must be a (stack of) square matrices (..., m, m), got shape "
+                         f"{np.shape(S)}")
+    if np.ndim(B) < 2 or np.shape(B)[-2] != np.shape(S)[-1]:
+        raise ValueError(f"B must be shaped (..., m, k) with m = {np.shape(S)[-1]} rows (S is "
+                         f"{np.shape(S)[-1]}x{np.shape(S)[-1]}), got shape {np.shape(B)}")
     if singular:
         out = np.linalg.pinv(S, rcond=PINV_RCOND, hermitian=True) @ B
         return _rescaled(S, B, out)
@@ -374,7 +390,8 @@ def _update(P: np.ndarray, C: np.ndarray, R: np.ndarray, sing: bool | None = Non
     PCt = P @ Ct
     S = C @ PCt + R
     # K^T = S^{-1} (P C^T)^T, solved rather than inverted.
-    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2), singular=singular(R) if sing is None else sing)
+    Kt = solve_psd(S, np.swapaxes(PCt, -1, -2), singular=singular(R) if sing is None else sing,
+                   check=False)
     return _sym(P - PCt @ Kt)
 
 
@@ -420,8 +437,9 @@ def measurement_update(P, C, R, *, check: bool = True,
     Raises
     ------
     ValueError
-        If an argument is not finite, has the wrong shape, or ``P`` or ``R`` is not symmetric
-        positive semi-definite (tolerances of :func:`fusioncenter._validate.covariance`).
+        If an argument is not finite, has the wrong shape, ``P`` is ``0x0`` (no state), or
+        ``P`` or ``R`` is not symmetric positive semi-definite (tolerances of
+        :func:`fusioncenter._validate.covariance`).
     """
     if check:
         P = _v.covariance("P", P, batch=True)
@@ -430,6 +448,7 @@ def measurement_update(P, C, R, *, check: bool = True,
         P, R = _as_matrix("P", P), _as_matrix("R", R)
         _check_square("P", P)
         _check_square("R", R)
+    _v.nonempty("P", P)
     C = _as_matrix("C", C)
     _check_update_shapes(P, C, R)
     return _update(P, C, R, r_singular)
@@ -507,7 +526,7 @@ def riccati_sequence(P0, A, Q, C, R, steps: int, *, time_varying: bool = False) 
         axis does not have length ``steps``.
     """
     steps = _steps(steps)
-    P = _v.covariance("P0", P0, batch=True)
+    P = _v.nonempty("P0", _v.covariance("P0", P0, batch=True))
     C = _v.finite("C", C)
     R = _v.finite("R", R)
     if time_varying:
@@ -596,8 +615,9 @@ def steady_state(A, Q, C, R) -> np.ndarray:
     Raises
     ------
     ValueError
-        If an argument is not finite or 2-D, has inconsistent shapes, ``Q`` or ``R`` is not
-        symmetric PSD, or no finite stabilizing PSD solution exists.
+        If an argument is not finite or 2-D, has inconsistent shapes, ``A`` is ``0x0`` (no
+        state), ``Q`` or ``R`` is not symmetric PSD, or no finite stabilizing PSD solution
+        exists.
     """
     A = _as_matrix("A", A)
     C = _as_matrix("C", C)
@@ -608,6 +628,7 @@ def steady_state(A, Q, C, R) -> np.ndarray:
     Q = _v.covariance("Q", Q)
     R = _v.covariance("R", R)
     _check_square("A", A)
+    _v.nonempty("A", A)
     if Q.shape != A.shape:
         raise ValueError(f"Q must be {A.shape[0]}x{A.shape[0]} (as A), got {Q.shape}")
     _check_update_shapes(A, C, R)

@@ -48,9 +48,9 @@ from typing import NamedTuple
 import numpy as np
 
 from fusioncenter import _kalman_core, censoring, montecarlo, particle
+from fusioncenter import _validate as _v
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
-from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _probability_core
 from fusioncenter.fading import Rayleigh
 from fusioncenter.kalman import LinearGaussianModel
@@ -244,8 +244,8 @@ def draw(rng: np.random.Generator, n: int, scenario, channel: Rayleigh | None = 
     """
     sc = _scenario(scenario)
     channel = Rayleigh(1.0) if channel is None else channel
-    rng_data, rng_pf, rng_chan = rng.spawn(3)
-    x, z = sc.sample(rng_data, n)
+    rng_data, rng_pf, rng_chan = _v.generator("rng", rng).spawn(3)
+    x, z = sc.sample(rng_data, _v.integer("n", n))
     xi = rng_data.random(z.shape)
     gain = channel.sample(rng_chan, z.shape)
     return Draw(x, z, xi, gain, rng_pf)
@@ -323,7 +323,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
     xi = _finite("xi", xi)
     if np.any((xi < 0) | (xi > 1)):
         raise ValueError("xi must be uniforms in [0, 1]")
-    lost = np.asarray(lost, dtype=bool)
+    lost = _v.flags("lost", lost)
     if xi.shape != z.shape or lost.shape != z.shape:
         raise ValueError(f"xi and lost must have z's shape {z.shape}, got {xi.shape}, "
                          f"{lost.shape}")
@@ -534,7 +534,7 @@ def run_pf(scenario, scheme: str, *, l, n_trials: int, n_particles: int, seed: i
     if scheme not in PF_SCHEMES:
         raise ValueError(f"scheme must be one of {PF_SCHEMES}, got {scheme!r}")
     eta = censoring.threshold(l, sc.N)
-    n_particles = _posint("n_particles", n_particles)
+    n_particles = _v.posint("n_particles", n_particles)
     fn = functools.partial(_pf_chunk, scenario=sc, scheme=scheme, receiver=_receiver(receiver),
                            eta=eta, outage=_outage(outage), n_particles=n_particles,
                            channel=channel)
@@ -650,14 +650,14 @@ def _solve(k: int, rhs: int) -> int:
     return (2 * k**3) // 3 + 2 * k * k * rhs
 
 
-@_doc(returns=("dict", '``{"flops": int, "special": int}``.'), raises=(),
+@_doc(returns=("dict", '``{"flops": int, "special": int}``.'),
       n=("int", "State dimension."), m=("int", "Number of sensors."))
 def kf_flops(n: int = 2, m: int = 2) -> dict[str, int]:
     """Operation count of one step of :func:`kf_filter` for one trial (``n`` states, ``m``
     sensors), term by term as the code computes it (a dropped or silent sensor costs the same):
     ``flops`` counts additions and multiplications, ``special`` the exponentials of the trigger.
     """
-    f = 0
+    f, n, m = 0, _v.posint("n", n), _v.posint("m", m)
     f += _matmul(1, n, m) + m  # innovations nu = z - xpred H^T
     f += 3 * m  # the trigger (nu^2 / (2 delta)), or the random-selection comparison
     f += _matmul(n, n, m)  # P C^T
@@ -686,7 +686,7 @@ def pf_flops(n: int = 2, m: int = 2, n_particles: int = 1000,
     if scheme not in ("all-send", "random") + PF_SCHEMES:
         raise ValueError(f"scheme must be 'all-send', 'random', 'cfomd' or 'cfwmd', "
                          f"got {scheme!r}")
-    n_particles = _posint("n_particles", n_particles)
+    n, m, n_particles = _v.posint("n", n), _v.posint("m", m), _v.posint("n_particles", n_particles)
     per = _matmul(1, n, n) + 2 * n  # F x + L u
     per += m * (2 * n - 1)  # h_i^T x
     per += 3 * m  # received: -(z - hx)^2 / (2 r)

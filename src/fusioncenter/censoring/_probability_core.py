@@ -26,11 +26,28 @@ from fusioncenter import _normal_kernels
 __all__ = ["prob_inside", "log_prob_inside", "INSIDE_CUTOFF", "cdf_owen", "CAREFUL_BELOW",
            "RHO_DEGENERATE", "bivariate_rectangle", "log_bivariate_rectangle",
            "log_inside_degenerate", "log_region_probability", "log_silent_constant",
-           "truncated_normal"]
+           "truncated_normal", "log_gauss"]
 
 _R2 = 1.0 / math.sqrt(2.0)
 _LOG_HALF = math.log(0.5)
 _LOG_2PI = math.log(2.0 * math.pi)
+
+
+def log_gauss(z, mean, r):
+    """:func:`fusioncenter.censoring.likelihood.log_gauss` without its checks (the filters'
+    received-measurement term, per particle).
+
+    Parameters
+    ----------
+    z, mean, r : array_like
+        Value, mean and variance (broadcast; the caller has checked them).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``log N(z; mean, r)``.
+    """
+    return -0.5 * (_LOG_2PI + np.log(r)) - 0.5 * (z - mean) ** 2 / r
 
 
 # ----------------------------------------------------------------------------- censored probability

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter._validate import PSD_RTOL
+from fusioncenter._validate import as_float as _as_float
 from fusioncenter._validate import finite as _finite
 
 #: A covariance whose smallest eigenvalue is at most this times its largest counts as singular.
@@ -29,6 +30,66 @@ def check_eta(value) -> float:
             or not np.isfinite(value) or value < 0):
         raise ValueError(f"eta must be a finite non-negative number, got {value!r}")
     return float(value)
+
+
+def check_offsets(widths: tuple = (), positive: bool = False, **values) -> None:
+    """Offsets and half-widths (semi-axes) of a censoring interval or ellipse: no NaN, widths
+    ``>= 0`` (``> 0`` and finite with ``positive=True``); infinities are limits elsewhere.
+
+    Parameters
+    ----------
+    widths : tuple of str
+        The names among ``values`` that are widths.
+    positive : bool
+        Widths must be positive and finite, offsets finite.
+    **values : array_like
+        The arguments, by name.
+
+    Returns
+    -------
+    None
+        The arguments are only checked.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is text, NaN, (``positive``) infinite, or a negative (zero)
+        width.
+    """
+    for name, value in values.items():
+        arr = _finite(name, value) if positive else _as_float(name, value)
+        if np.any(np.isnan(arr)):
+            raise ValueError(f"{name} must not be NaN, got {value!r}")
+        if name in widths and np.any(arr <= 0 if positive else arr < 0):
+            why = "positive" if positive else "non-negative"
+            raise ValueError(f"{name} must be {why} (a half-width), got {value!r}")
+
+
+def check_cholesky(name: str, value) -> np.ndarray:
+    """The Cholesky factor of (a stack of) positive-definite matrices, or ``ValueError`` naming
+    them (NumPy's ``LinAlgError`` says only "Matrix is not positive definite").
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : numpy.ndarray
+        Finite matrices ``(..., m, m)`` (only the lower triangle is read).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``L`` with ``L L^T = value``, lower triangular.
+
+    Raises
+    ------
+    ValueError
+        If a matrix is not positive definite.
+    """
+    try:
+        return np.linalg.cholesky(value)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"{name} must be positive definite (a covariance of full rank)") from None
 
 
 def check_pd(name: str, value, m: int | None = None, *,

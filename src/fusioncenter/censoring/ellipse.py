@@ -48,9 +48,16 @@ from scipy import special
 
 from fusioncenter import _kernels
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _probability_core, scenarios
 from fusioncenter.censoring import probability as cprob
-from fusioncenter.censoring.checks import check_eta, check_pd, check_psd
+from fusioncenter.censoring.checks import (
+    check_cholesky,
+    check_eta,
+    check_offsets,
+    check_pd,
+    check_psd,
+)
 
 SCHEMES = scenarios.SCHEMES
 FEEDBACK = scenarios.FEEDBACK
@@ -87,8 +94,14 @@ def canonical_map(S, R):
         ``A_L = V^T L^{-1}`` ``(..., m, m)``.
     a_scale : numpy.ndarray
         ``1 / sqrt(lam)`` ``(..., m)``, ascending.
+
+    Raises
+    ------
+    ValueError
+        Naming ``S`` or ``R`` if it is not finite or not positive definite.
     """
-    L = np.linalg.cholesky(R)
+    check_cholesky("S", _finite("S", S))
+    L = check_cholesky("R", _finite("R", R))
     Linv = np.linalg.inv(L)
     M = np.swapaxes(L, -1, -2) @ np.linalg.solve(S, L)
     M = 0.5 * (M + np.swapaxes(M, -1, -2))
@@ -130,7 +143,13 @@ def log_inside_1d(b, a):
     -------
     numpy.ndarray
         ``log P(|Z + b| < a)``.
+
+    Raises
+    ------
+    ValueError
+        If ``b`` or ``a`` is NaN or ``a`` is negative (infinities are the limits).
     """
+    check_offsets(("a",), b=b, a=a)
     b, a = np.broadcast_arrays(np.asarray(b, dtype=float), np.asarray(a, dtype=float))
     return _probability_core.log_prob_inside(b, a)
 
@@ -168,7 +187,15 @@ def log_canon(b1, b2, a1, a2, *, K: int = 64, zooms: int = 2, drop: float = 40.0
     -------
     numpy.ndarray
         ``log P``, shaped like the broadcast inputs.
+
+    Raises
+    ------
+    ValueError
+        If ``b1`` or ``b2`` is not finite, ``a1`` or ``a2`` not positive and finite, or ``K``
+        not a positive integer.
     """
+    check_offsets(("a1", "a2"), True, b1=b1, b2=b2, a1=a1, a2=a2)
+    K = _posint("K", K)  # numpy's leggauss would say "deg"
     b1, b2, a1, a2 = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (b1, b2, a1, a2)))
     shape = b1.shape
     b1, b2, a1, a2 = (np.abs(v).reshape(-1, 1) for v in (b1, b2, a1, a2))

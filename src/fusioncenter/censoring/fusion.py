@@ -13,12 +13,13 @@ import numpy as np
 from fusioncenter import _kernels, _transition_kernels, _ziggurat, particle
 from fusioncenter.censoring import _decisions
 from fusioncenter.censoring._probability_core import (
+    log_gauss,
     log_prob_inside,
     log_region_probability,
     log_silent_constant,
     truncated_normal,
 )
-from fusioncenter.censoring.likelihood import log_gauss, no_feedback_region
+from fusioncenter.censoring.likelihood import no_feedback_region
 from fusioncenter.censoring.scenarios import LinearScenario
 from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
 

@@ -4,15 +4,15 @@ See :mod:`fusioncenter.censoring` for the erratum of Proposition 3 and its corre
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from fusioncenter._validate import broadcast as _broadcast
+from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 from fusioncenter._validate import received as _received
+from fusioncenter.censoring._probability_core import log_gauss as _log_gauss
 from fusioncenter.censoring._probability_core import (
     log_region_probability,
     log_silent_constant,
@@ -33,11 +33,14 @@ def log_gauss(z, mean, r):
     -------
     numpy.ndarray
         ``log N(z; mean, r)``.
+
+    Raises
+    ------
+    ValueError
+        If ``z`` or ``mean`` is not finite, or ``r`` is not a positive finite variance.
     """
-    return -0.5 * (_LOG_2PI + np.log(r)) - 0.5 * (z - mean) ** 2 / r
-
-
-_LOG_2PI = math.log(2.0 * math.pi)
+    z, mean = _finite("z", z), _finite("mean", mean)
+    return _log_gauss(z, mean, _positive("r", r))
 
 
 
@@ -83,7 +86,7 @@ def log_likelihood_feedback(sent, z, hx, hx_pred, s, r, eta):
     s = _nonneg("s", s)
     eta = float(_nonneg("eta", eta))
     _broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
-    recv = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, r), 0.0)
+    recv = np.where(sent, _log_gauss(np.where(sent, z, 0.0), hx, r), 0.0)
     sd = np.sqrt(r)
     with np.errstate(invalid="ignore"):
         sil = np.where(sent, 0.0, prob_inside((hx - hx_pred) / sd, np.sqrt(eta * s) / sd, log=True))
@@ -109,7 +112,7 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
     sent, z, hx : array_like
         Who sent, the measurements and ``h_i^T x`` ``(..., N)``.
     C : array_like
-        ``(N, N)``, as above.
+        ``(N, N)``, as above: a covariance (symmetric PSD).
     r : array_like
         Noise variances, ``> 0``.
     eta : float
@@ -132,11 +135,12 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
     C = _finite("C", C)
     if C.shape != (N, N):
         raise ValueError(f"C must be ({N}, {N}), got {C.shape}")
+    _covariance("C", C)  # symmetric PSD: its diagonal is a variance (a square root is taken)
     if version == "corrected" and N > 2:
         raise ValueError(f"the corrected no-feedback likelihood is implemented for N <= 2 "
                          f"sensors (a bivariate normal probability), got N = {N}")
     sent, z, hx = _broadcast(sent=sent, z=z, hx=hx)
-    recv = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, r), 0.0).sum(axis=-1)
+    recv = np.where(sent, _log_gauss(np.where(sent, z, 0.0), hx, r), 0.0).sum(axis=-1)
     region = no_feedback_region(sent, z, hx[..., None, :], C, r, eta, version)[..., 0]
     return recv + region
 

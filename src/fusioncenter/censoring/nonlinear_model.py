@@ -329,10 +329,11 @@ def ekf_covariance_step(P, g, F, Q, r):
     Raises
     ------
     ValueError
-        Naming the argument that is not finite, not a covariance (``P``, ``Q``), negative
-        (``r``), or of the wrong shape (the message states the expected one).
+        Naming the argument that is not finite, not a covariance (``P``, ``Q``; ``P`` ``0x0``:
+        no state), negative (``r``), or of the wrong shape (the message states the expected
+        one).
     """
-    P = _v.covariance("P", P, batch=True)
+    P = _v.nonempty("P", _v.covariance("P", P, batch=True))
     d = P.shape[-1]
     g = _v.shape_is("g", _v.finite("g", g), (..., d), f"P is {d}x{d}")
     F = _v.shape_is("F", _v.finite("F", F), (d, d), f"P is {d}x{d}")

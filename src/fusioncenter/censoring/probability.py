@@ -190,8 +190,22 @@ def bivariate_rectangle(l1, u1, l2, u2, rho):
     -------
     numpy.ndarray
         The probabilities, in ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        Naming the bound that is text or NaN, or if ``rho`` is NaN or outside ``[-1, 1]``.
     """
+    _no_nan_bounds(l1=l1, u1=u1, l2=l2, u2=u2)
     return _core.bivariate_rectangle(l1, u1, l2, u2, rho)
+
+
+def _no_nan_bounds(**bounds) -> None:
+    """The bounds of a rectangle: numbers (infinities allowed), not NaN, named in the message."""
+    for name, value in bounds.items():
+        if np.any(np.isnan(_v.as_float(name, value))):
+            raise ValueError(f"{name} must not be NaN (a bound; -inf and inf are allowed), got "
+                             f"{value!r}")
 
 
 def log_bivariate_rectangle(l1, u1, l2, u2, rho):
@@ -218,7 +232,13 @@ def log_bivariate_rectangle(l1, u1, l2, u2, rho):
     -------
     numpy.ndarray
         The log probabilities (``<= 0``).
+
+    Raises
+    ------
+    ValueError
+        Naming the bound that is text or NaN, or if ``rho`` is NaN or outside ``[-1, 1]``.
     """
+    _no_nan_bounds(l1=l1, u1=u1, l2=l2, u2=u2)
     return _core.log_bivariate_rectangle(l1, u1, l2, u2, rho)
 
 

@@ -263,8 +263,15 @@ def log_all_silent(cov, S, eta, *, K: int = 48) -> float:
     -------
     float
         The log probability.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite, of the wrong shape, not positive definite
+        (``cov``, ``S``) or out of range (``eta``, ``K`` a positive integer).
     """
     eta = check_eta(eta)
+    K = _posint("K", K)
     S = _finite("S", S)
     if S.ndim != 3 or S.shape[0] not in (1, 2) or S.shape[1] != S.shape[2]:
         raise ValueError(f"S must be (k, m, m) with k in (1, 2) silent sensors, got {S.shape}")
@@ -415,8 +422,8 @@ def whitening(R):
     Raises
     ------
     ValueError
-        If ``R`` is not a symmetric positive-definite matrix.
+        If ``R`` is not a symmetric positive-definite matrix (or is ``0x0``).
     """
-    R = _v.covariance("R", R, definite=True)
+    R = _v.nonempty("R", _v.covariance("R", R, definite=True), "a 0x0 noise covariance")
     L = np.linalg.cholesky(R)
     return np.linalg.inv(L), 2.0 * float(np.log(np.diag(L)).sum())

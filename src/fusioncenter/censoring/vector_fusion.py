@@ -24,7 +24,6 @@ from fusioncenter.censoring.ellipse import (
     PROBABILITIES,
     canonical_map,
     eval_silent,
-    log_inside_1d,
     log_silent_per_trial,
     log_silent_table,
 )
@@ -163,7 +162,8 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
         u1 = b1 + _truncated_std_normal(rng, -a[0] - b1, a[0] - b1)
         h = a[1] * np.sqrt(np.clip(1.0 - (u1 / a[0]) ** 2, 0.0, None))
         u2 = b2 + _truncated_std_normal(rng, -h - b2, h - b2)
-        ratio = np.exp(log_inside_1d(b2, h) - log_inside_1d(b2, np.full_like(b2, a[1])))
+        ratio = np.exp(_probability_core.log_prob_inside(b2, h)
+                       - _probability_core.log_prob_inside(b2, np.full_like(b2, a[1])))
         ok = rng.random(todo.size) < ratio
         out[todo, 0], out[todo, 1] = u1, u2
         todo = todo[~ok]

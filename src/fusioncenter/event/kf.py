@@ -268,14 +268,19 @@ def split_summary(arr, nx: int) -> dict[str, np.ndarray]:
     Returns
     -------
     dict
-        ``sq_err``, ``p_diag``, ``gamma``, ``send_prob`` (views of ``arr``).
+        ``sq_err``, ``p_diag``, ``gamma``, ``send_prob`` (views of ``arr``: the values as they
+        are, so a NaN standard error of one trial stays NaN).
 
     Raises
     ------
     ValueError
-        If the last axis is not ``2 nx + 2 m`` for some ``m >= 1``.
+        If ``arr`` is text or has no axis, ``nx`` is not a positive integer, or the last axis is
+        not ``2 nx + 2 m`` for some ``m >= 1``.
     """
-    arr = np.asarray(arr)
+    nx = _v.posint("nx", nx)
+    arr = _v.as_float("arr", arr)
+    if arr.ndim == 0:
+        raise ValueError("arr must have a last axis of columns, got a scalar")
     extra = arr.shape[-1] - 2 * nx
     if extra < 2 or extra % 2:
         raise ValueError(f"arr's last axis ({arr.shape[-1]}) is not 2*nx + 2*m for nx={nx}")

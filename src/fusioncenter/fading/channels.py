@@ -14,6 +14,7 @@ import numpy as np
 import scipy.special
 
 from fusioncenter._docstrings import Glossary
+from fusioncenter._validate import as_float as _as_float
 from fusioncenter._validate import positive as _positive
 
 __all__ = ["exp_e1", "Rayleigh", "Nakagami"]
@@ -38,10 +39,7 @@ _CF_DEPTH = 64
 
 def _notnan(name: str, value) -> np.ndarray:
     """Floats, no NaN (infinities are the documented limits of the special functions)."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number or array, got {value!r}") from None
+    arr = _as_float(name, value)  # text refused: NumPy would read "1" as 1.0
     if np.any(np.isnan(arr)):
         raise ValueError(f"{name} must not be NaN, got {value!r}")
     return arr
@@ -81,7 +79,7 @@ def exp_e1(x):
     Raises
     ------
     ValueError
-        If an entry is NaN or negative.
+        If ``x`` is text, or an entry is NaN or negative.
     """
     x = _notnan("x", x)
     if np.any(x < 0):

@@ -40,6 +40,9 @@ def _vector_args(A, c, Sigma_w, sigma_v2, sigma_n2, P0, steps):
     A = _finite("A", A)
     if A.ndim != 2 or A.shape[0] != A.shape[1]:
         raise ValueError(f"A must be a square matrix, got shape {A.shape}")
+    if A.shape[0] == 0:
+        raise ValueError("A must not be empty (a state of dimension 0 is not a model), got "
+                         "shape (0, 0)")
     n = A.shape[0]
     c = _finite("c", c)
     if c.shape != (n,):

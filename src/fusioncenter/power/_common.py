@@ -91,6 +91,9 @@ def check_general(rho, tau, kappa_, sigma_n2):
     _positive("tau", s["tau"])
     _positive("kappa", s["kappa"], "a power per unit alpha^2")
     sn = _nonneg("sigma_n2", sigma_n2, "a variance")
+    if np.any(np.all(s["rho"] == 0, axis=-1)):
+        raise ValueError("rho must have a non-zero entry in every row (all zero: no sensor "
+                         "carries information, S = 0 whatever alpha)")
     rho, tau, kap = np.broadcast_arrays(s["rho"], s["tau"], s["kappa"])
     return rho, tau, kap, sn
 
@@ -142,7 +145,8 @@ sigma_v2 : array_like
 alpha : array_like
     Real amplification factors ``(..., M)``.
 S : array_like
-    Signal-to-noise ratio, ``>= 0`` (arbitrarily large: ``S -> inf`` gives ``sigma_w2``).
+    Signal-to-noise ratio, ``>= 0`` and finite (arbitrarily large: the result tends to
+    ``sigma_w2`` as ``S -> inf``; ``inf`` itself is rejected).
 D : array_like
     Error target, strictly between ``sigma_w2`` and ``sigma_w2 / (1 - a^2)``.
 access : str

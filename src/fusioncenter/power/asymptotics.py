@@ -85,6 +85,10 @@ def lemma4_bounds(M, a, sigma_w2, sigma_n2, h_range, c_range, sigma_v2_range, *,
     (h_lo, h_hi), (c_lo, c_hi), (s_lo, s_hi) = (
         _positive(n, r, "a range of positive values") for n, r in
         (("h_range", h_range), ("c_range", c_range), ("sigma_v2_range", sigma_v2_range)))
+    for name, lo_, hi_ in (("h_range", h_lo, h_hi), ("c_range", c_lo, c_hi),
+                           ("sigma_v2_range", s_lo, s_hi)):
+        if lo_ > hi_:
+            raise ValueError(f"{name} must be (min, max) with min <= max, got ({lo_:g}, {hi_:g})")
     # bounds on rbar / cbar^2 = 1/S, multiplied by M
     if scaling == "sqrt":
         lo = (h_lo**2 * s_lo + sn) / (h_hi**2 * c_hi**2)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from fusioncenter._validate import finite as _finite
+from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 from fusioncenter.power._common import (
     ALPHA,
@@ -99,7 +100,7 @@ def greedy_min_power(access, D, a, sigma_w2, h, c, sigma_v2, sigma_n2, *, P0=Non
     steps = h.shape[-2]
     lead = h.shape[:-2]
     P = np.empty(lead + (steps + 1,))
-    P[..., 0] = D if P0 is None else P0
+    P[..., 0] = D if P0 is None else _positive("P0", P0, "a prediction variance")
     power = np.empty(lead + (steps,))
     kap = kappa(a, sigma_w2, c, sv)
     k = 0
@@ -139,7 +140,8 @@ def greedy_min_error(access, gamma_total, a, sigma_w2, h, c, sigma_v2, sigma_n2,
     spent = np.sum(alpha**2 * kappa(a, sigma_w2, c, sv), axis=-1)
     steps = h.shape[-2]
     P = np.empty(S.shape[:-1] + (steps + 1,))
-    P[..., 0] = stationary_variance(a, sigma_w2) if P0 is None else P0
+    P[..., 0] = (stationary_variance(a, sigma_w2) if P0 is None
+                 else _nonneg("P0", P0, "a prediction variance"))
     for k in range(steps):
         P[..., k + 1] = steady_recursion(P[..., k], a, sigma_w2, S[..., k])
     return P, S, spent

@@ -41,7 +41,7 @@ def beamformed(alpha, h_mean) -> np.ndarray:
     """``alpha~_i = alpha_i conj(E h~_i) / |E h~_i|``: beamforming on the mean channel."""
     if is_text(h_mean):
         raise ValueError(f"h_mean must be (complex) numbers, not text, got {h_mean!r}")
-    s = check_sensors(alpha=alpha, h_mean_abs=np.abs(np.asarray(h_mean)))
+    s = check_sensors(alpha=alpha, h_mean=np.abs(np.asarray(h_mean)))
     m = np.asarray(h_mean, dtype=complex)
     if np.any(np.abs(m) == 0):
         raise ValueError("h_mean must be non-zero (zero-mean fading carries no information "
@@ -78,7 +78,7 @@ def lmmse_matrices(access, alpha_t, a, sigma_w2, c, sigma_v2, sigma_n2, h_mean, 
     """
     access = check_access(access)
     s = check_sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
-                 alpha_abs=np.abs(np.asarray(alpha_t)), h_mean_abs=np.abs(np.asarray(h_mean)))
+                 alpha_t=np.abs(np.asarray(alpha_t)), h_mean=np.abs(np.asarray(h_mean)))
     _positive("sigma_v2", s["sigma_v2"])
     for name in ("h_var_re", "h_var_im"):
         if np.any(s[name] < 0):
@@ -136,7 +136,7 @@ def lmmse_coefficients(a, sigma_w2, c, sigma_v2, h_mean, h_var_re, h_var_im):
     paper's Rician example) or a real or imaginary mean; otherwise ``ValueError``.
     """
     s = check_sensors(c=c, sigma_v2=sigma_v2, h_var_re=h_var_re, h_var_im=h_var_im,
-                 h_mean_abs=np.abs(np.asarray(h_mean)))
+                 h_mean=np.abs(np.asarray(h_mean)))
     for name in ("h_var_re", "h_var_im"):
         if np.any(s[name] < 0):
             raise ValueError(f"{name} must be non-negative (it is a variance)")
