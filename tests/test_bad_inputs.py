@@ -662,6 +662,9 @@ bad("censoring.nonlinear.local_ekf[z=nan]", "z", nlm.local_ekf, _nsc0,
 bad("censoring.nonlinear.local_ekf[z shape]", "z", nlm.local_ekf, _nsc0, np.zeros((1, 2, 8)))
 bad("censoring.nonlinear.NonlinearScenario[r=-1]", "r", nlm.NonlinearScenario, r=-1.0)
 bad("censoring.nonlinear.NonlinearScenario[r=nan]", "r", nlm.NonlinearScenario, r=NAN)
+# r = 0 would make s = g P g^T + r = 0 possible in the sensors' EKFs (a zero gradient) and leave
+# the particle filter's likelihood without a density: the scenario documents r > 0
+bad("censoring.nonlinear.NonlinearScenario[r=0]", "r", nlm.NonlinearScenario, r=0.0)
 bad("censoring.nonlinear.NonlinearScenario[sigma2=-1]", "sigma2", nlm.NonlinearScenario,
     sigma2=-1.0)
 bad("censoring.nonlinear.amplitude[pos=nan]", "pos", nlm.amplitude, _nsc0, np.full(2, NAN))
