@@ -12,7 +12,8 @@ Everything here is written in terms of one expectation of the channel law,
 
 because the posterior variance is ``p - p^2 / (p + sigma_v2) * r / (r + b)`` with
 ``b = sigma_n2 / (p + sigma_v2)``, so ``E_r[posterior] = p (sigma_v2 + p g(b)) / (p + sigma_v2)``.
-For Rayleigh fading ``g(b) = m e^m E1(m)`` with ``m = lam b`` (the paper's (17)); for
+For Rayleigh fading ``g(b) = mu e^mu E1(mu)`` with ``mu = lam b`` (the paper's (17), whose
+``m_k``; the book writes μ so that ``m`` is the Nakagami shape alone); for
 Nakagami(1/2) ``g(b) = sqrt(pi) u erfcx(u)`` with ``u = sqrt(lam b / 2)`` ((19)); for general
 Nakagami-m ``g(b) = z^m U(m, m, z)`` with ``z = lam m b`` (Tricomi's confluent hypergeometric U).
 
