@@ -12,8 +12,15 @@ into one report. Any request to a host other than 127.0.0.1 is reported and fail
 resolves no other host). For each page it checks:
 
 * the page is served with HTTP 200 and no sub-resource fails (HTTP >= 400 or a network error);
-* no console message of type "error" and no uncaught JavaScript exception (a missing favicon is
-  ignored);
+* no console message of type "error" and no uncaught JavaScript exception; the page declares
+  an icon (``<link rel="icon">``) that the site serves (``check_favicon``: without one every
+  page asks for ``/favicon.ico`` and gets 404);
+* accessibility (``check_accessibility``): axe-core 4 (vendored, ``tools/vendor/axe.min.js``)
+  finds no violation of the WCAG 2 A and AA rules at 1280 px with every collapsed block open,
+  in the theme's light colours, and none of the colour rules in its dark ones (names of
+  toggles, contrast >= 4.5:1, valid ARIA...); the seconds axe took are printed; every visible
+  control (toggle, button, dropdown, tab, input) takes the keyboard focus and shows it
+  (``check_focus``);
 * every ``<img>`` finished loading with a non-zero natural width;
 * on pages whose served HTML has math elements (class ``math``: ``span.math``, ``div.math``),
   MathJax started (``MathJax.startup.promise``), produced at least one ``mjx-container`` per
@@ -286,6 +293,7 @@ def check_site(
     workers = max(1, min(workers, len(pages)))
     FIGURE_STATS.update(figures=0, pages=0, min_panel_px=None, min_font_px=None,
                         narrow_panel_px=None, narrow_font_px=None, narrow_scrolling=0)
+    AXE_STATS.update(seconds=0.0, runs=0, pages=0, rules={}, focus_tried=0)
 
     try:
         import playwright.sync_api  # noqa: F401
@@ -404,6 +412,7 @@ def check_site(
     n_ok = sum(r.ok for r in results)
     say(f"{len(results)} pages, {math_pages} with typeset math, {images} images loaded")
     say(registry_figure_summary())
+    say(axe_summary())
     for prob in site_problems:
         say(f"SITE: {prob}")
     say(f"browser check: {n_ok} passed, {len(results) - n_ok} failed")
@@ -457,8 +466,6 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
             if res is None or msg.type != "error":
                 return
             loc = (msg.location or {}).get("url", "")
-            if "favicon" in loc or "favicon" in msg.text:
-                return
             if any(u in msg.text or u == loc for u in aborted):
                 return  # already reported as an external request
             res.problems.append(f"page {res.path}: console error: {msg.text[:300]}"
@@ -474,14 +481,14 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
             url = resp.url
             if "/mathjax/" in url and re.search(r"\.woff2?(\?|$)", url):
                 fonts.append((url, resp.status))
-            if res is None or resp.status < 400 or "favicon" in url:
+            if res is None or resp.status < 400:
                 return
             res.failed_urls.append(url)
             res.problems.append(f"page {res.path}: HTTP {resp.status} for {url}")
 
         def on_requestfailed(req) -> None:
             res = current["page"]
-            if res is None or req.url in aborted or "favicon" in req.url:
+            if res is None or req.url in aborted:
                 return
             res.failed_urls.append(req.url)
             res.problems.append(f"page {res.path}: request failed: {req.url} "
@@ -493,6 +500,7 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
         page.on("requestfailed", on_requestfailed)
 
         printed = False  # the last page was printed (and left in print media)
+        axe_seen: set[str] = set()  # the uniform markup axe has checked (AXE_UNIFORM)
         for path in pages:
             rel = path.relative_to(html_dir).as_posix()
             res = PageResult(rel)
@@ -527,6 +535,11 @@ def _browse(base: str, html_dir: Path, pages: list[Path], printer, say,
                             page.set_viewport_size(viewport)
                         measured[viewport["width"]] = check_layout(page, rel, viewport)
                         shown[viewport["width"]] = page.evaluate(_FIGURES_JS)
+                        if viewport == VIEWPORT:
+                            # at 1280 px, every collapsed block open (check_layout): the
+                            # evidence tables and solutions are read too
+                            check_accessibility(page, res, seen=axe_seen)
+                            check_focus(page, res)
                     except PlaywrightError as exc:
                         measured.setdefault(viewport["width"],
                                             LayoutResult(rel, width=viewport["width"]))
@@ -578,18 +591,21 @@ def _write_part(out: Path, results, layouts, problems, lines) -> None:
     """What a ``--part`` child found, for :func:`check_site` (JSON, written last)."""
     out.mkdir(parents=True, exist_ok=True)
     data = {"results": [asdict(r) for r in results], "layouts": [asdict(r) for r in layouts],
-            "problems": problems, "figure_stats": FIGURE_STATS, "lines": lines}
+            "problems": problems, "figure_stats": FIGURE_STATS, "axe_stats": AXE_STATS,
+            "lines": lines}
     tmp = out / (PART_FILE + ".tmp")
     tmp.write_text(json.dumps(data), encoding="utf-8")
     tmp.replace(out / PART_FILE)
 
 
 def _read_part(out: Path):
-    """``(results, layouts, problems, figure stats, log lines)`` of a child, or ``None``."""
+    """``(results, layouts, problems, figure stats, log lines)`` of a child, or ``None``;
+    its :data:`AXE_STATS` are added to this process's."""
     try:
         data = json.loads((out / PART_FILE).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
+    _merge_axe_stats(data.get("axe_stats", {}))
     return ([PageResult(**r) for r in data["results"]],
             [LayoutResult(**r) for r in data["layouts"]],
             data["problems"], data["figure_stats"], data["lines"])
@@ -637,6 +653,7 @@ def _check_page(page, url: str, res: PageResult, refresh: str | None,
             res.problems.append(f"page {res.path}: redirect to {refresh} not followed ({exc})")
         return
 
+    check_favicon(page, res)
     images = page.evaluate(_IMAGES_JS)
     res.images = len(images)
     res.images_ok = sum(1 for i in images if i["ok"])
@@ -993,6 +1010,202 @@ def registry_figure_summary() -> str:
             f"{s['narrow_font_px']:.1f} px, {s['narrow_scrolling']} in a box that scrolls "
             "sideways")
 # ------------------------------------------------------------ end of registry figures block
+
+
+# ------------------------------------------------------------------- accessibility (issue 48):
+# axe-core (tools/vendor/axe.min.js, vendored from npm: no network at test time) on every page,
+# the WCAG 2 A and AA rules only, in the theme's light and dark colours.
+AXE_JS = Path(__file__).resolve().parent / "vendor" / "axe.min.js"
+AXE_TAGS = ["wcag2a", "wcag2aa"]
+#: The rules whose outcome depends on the colours: the only ones run again in the dark theme
+#: (names, roles and ARIA are the same markup in both).
+AXE_COLOUR_RULES = ["color-contrast", "link-in-text-block"]
+THEMES = ("light", "dark")
+#: seconds spent in axe (injecting it and its runs), runs, and per "rule theme impact" the
+#: elements and the pages found; merged from every browser (:func:`_merge_axe_stats`)
+AXE_STATS: dict = {"seconds": 0.0, "runs": 0, "pages": 0, "rules": {}}
+
+#: Markup that is the same on every page, whatever the page says: MathJax's typeset output
+#: (most of a math page's elements: 9 690 of 15 329 on the vector chapter) and the highlighted
+#: code listings (one element per token; outputs are not among them), whose colours come from
+#: MathJax's and Pygments' stylesheets. Each browser checks them on the first page that has
+#: them; on the others axe runs with them set aside (and put back): on the zheng2014 results
+#: chapter, 2.9 s of axe with them, 1.0 s without.
+AXE_UNIFORM = {"math": "mjx-container",
+               "code": "div.highlight:not(.cell_output div.highlight)"}
+
+# Runs axe in the page in one theme of pydata-sphinx-theme (``data-theme`` and ``data-mode`` on
+# <html>, as its theme switch sets them), with the elements ``aside`` selects set aside, then
+# puts the page back as it was.
+_AXE_JS = r"""
+async ([theme, options, aside]) => {
+  const root = document.documentElement;
+  const was = {theme: root.dataset.theme, mode: root.dataset.mode};
+  const still = document.createElement('style');  // colours read at once, not mid-transition
+  still.textContent = '*, *::before, *::after { transition: none !important; }';
+  document.head.appendChild(still);
+  root.dataset.theme = theme;
+  root.dataset.mode = theme;
+  const parked = [];
+  if (aside) {
+    for (const el of document.querySelectorAll(aside)) {
+      if (!el.isConnected) continue;  // inside another one set aside
+      const mark = document.createComment('mjx');
+      el.replaceWith(mark);
+      parked.push([mark, el]);
+    }
+  }
+  try {
+    const result = await axe.run(document, options);
+    return result.violations.map(v => ({
+      id: v.id, impact: v.impact || '', help: v.help, count: v.nodes.length,
+      nodes: v.nodes.slice(0, 3).map(n => ({target: n.target.join(' '),
+        why: (n.failureSummary || '').split('\n').slice(1, 2).join(' ').trim().slice(0, 160)}))}));
+  } finally {
+    for (const [mark, el] of parked) mark.replaceWith(el);
+    for (const key of ['theme', 'mode']) {
+      if (was[key] === undefined) delete root.dataset[key]; else root.dataset[key] = was[key];
+    }
+    still.remove();
+  }
+}
+"""
+
+
+def axe_violations(page, *, aside: str | None = None) -> list[dict]:
+    """Run axe-core's WCAG 2 A/AA rules on the page loaded in ``page``: every rule in the
+    light theme, the colour rules (:data:`AXE_COLOUR_RULES`) again in the dark one. Returns
+    the violations, each ``{"id", "impact", "help", "count", "nodes", "theme"}``.
+    ``aside``: a CSS selector of elements set aside during the runs (see
+    :data:`AXE_UNIFORM`). Raises ``FileNotFoundError`` if the vendored axe is missing."""
+    if not AXE_JS.is_file():
+        raise FileNotFoundError(f"{AXE_JS} missing (vendored axe-core: see tools/vendor/)")
+    t0 = time.monotonic()
+    if not page.evaluate("() => typeof window.axe === 'object'"):
+        page.add_script_tag(path=str(AXE_JS))
+    found = []
+    for theme in THEMES:
+        rules = ({"type": "tag", "values": AXE_TAGS} if theme == "light"
+                 else {"type": "rule", "values": AXE_COLOUR_RULES})
+        options = {"runOnly": rules, "resultTypes": ["violations"]}
+        for v in page.evaluate(_AXE_JS, [theme, options, aside]):
+            found.append({**v, "theme": theme})
+        AXE_STATS["runs"] += 1
+    AXE_STATS["seconds"] += time.monotonic() - t0
+    return found
+
+
+def check_accessibility(page, res: PageResult, *, seen: set[str] | None = None) -> None:
+    """The axe findings of the page loaded in ``page``, as problems of ``res`` (and counted in
+    :data:`AXE_STATS`). ``seen``: the kinds of :data:`AXE_UNIFORM` already checked by this
+    browser, set aside here; the kinds this page has are added to it."""
+    seen = set() if seen is None else seen
+    kinds = [k for k in AXE_UNIFORM if k not in seen
+             and page.evaluate("(s) => !!document.querySelector(s)", AXE_UNIFORM[k])]
+    aside = ", ".join(AXE_UNIFORM[k] for k in sorted(seen)) or None
+    seen.update(kinds)
+    try:
+        found = axe_violations(page, aside=aside)
+    except FileNotFoundError as exc:
+        res.problems.append(f"page {res.path}: accessibility not checked: {exc}")
+        return
+    AXE_STATS["pages"] += 1
+    for v in found:
+        key = f"{v['id']} {v['theme']} {v['impact']}"
+        elements, pages = AXE_STATS["rules"].setdefault(key, [0, []])
+        AXE_STATS["rules"][key][0] = elements + v["count"]
+        pages.append(res.path)
+        first = v["nodes"][0] if v["nodes"] else {"target": "?", "why": ""}
+        res.problems.append(f"page {res.path}: accessibility ({v['theme']} theme): "
+                            f"{v['id']} ({v['impact']}, {v['count']} elements: {v['help']}), "
+                            f"e.g. {first['target']}: {first['why']}")
+
+
+def _merge_axe_stats(other: dict) -> None:
+    """Add another browser's :data:`AXE_STATS` to this process's."""
+    for key in ("seconds", "runs", "pages", "focus_tried"):
+        AXE_STATS[key] = AXE_STATS.get(key, 0) + other.get(key, 0)
+    for rule, (elements, pages) in other.get("rules", {}).items():
+        mine = AXE_STATS["rules"].setdefault(rule, [0, []])
+        mine[0] += elements
+        mine[1].extend(pages)
+
+
+def axe_summary() -> str:
+    s = AXE_STATS
+    head = (f"accessibility: axe-core WCAG 2 A/AA on {s['pages']} pages, light and dark "
+            f"themes ({s['runs']} runs, {s['seconds']:.1f} s); keyboard focus visible on "
+            f"{s.get('focus_tried', 0)} controls tried")
+    if not s["rules"]:
+        return head + ": no violation"
+    return head + "; " + "; ".join(
+        f"{rule}: {elements} elements on {len(set(pages))} pages"
+        for rule, (elements, pages) in sorted(s["rules"].items()))
+
+
+# Every visible control a reader reaches with the Tab key (toggles, buttons, dropdowns, tabs):
+# focused as the keyboard focuses it, it is the active element and draws an outline or a
+# shadow. Returns the controls that do not (at most 3 described) and how many were tried.
+_FOCUS_JS = r"""
+() => {
+  const sel = 'summary, button, [role="tab"], .dropdown-toggle, input, select, textarea';
+  const bad = [];
+  let tried = 0;
+  for (const el of document.querySelectorAll(sel)) {
+    if (el.disabled || el.tabIndex < 0 || el.closest('[inert], [aria-hidden="true"]')) continue;
+    const r = el.getBoundingClientRect();
+    const cs = getComputedStyle(el);
+    if (!r.width || !r.height || cs.visibility === 'hidden') continue;
+    tried += 1;
+    el.focus({focusVisible: true});
+    const now = getComputedStyle(el);
+    const ring = (now.outlineStyle !== 'none' && parseFloat(now.outlineWidth) > 0)
+      || (now.boxShadow !== 'none' && !/^rgba\(0, 0, 0, 0\)/.test(now.boxShadow));
+    if (document.activeElement !== el || !ring) {
+      bad.push((el.getAttribute('aria-label') || el.textContent || el.tagName).trim()
+        .replace(/\s+/g, ' ').slice(0, 50) + (document.activeElement !== el
+        ? ' (cannot take the focus)' : ' (no visible focus)'));
+    }
+  }
+  if (document.activeElement) document.activeElement.blur();
+  window.scrollTo(0, 0);
+  return {bad, tried};
+}
+"""
+
+
+def check_focus(page, res: PageResult) -> None:
+    """Every visible control of the page takes the keyboard focus and shows it (WCAG 2.4.7)."""
+    found = page.evaluate(_FOCUS_JS)
+    AXE_STATS["focus_tried"] = AXE_STATS.get("focus_tried", 0) + found["tried"]
+    if found["bad"]:
+        res.problems.append(f"page {res.path}: {len(found['bad'])} of {found['tried']} controls "
+                            f"show no keyboard focus, e.g. {found['bad'][:3]}")
+
+
+#: A favicon's URL -> its HTTP status (asked once per run, from here, like the figure data).
+_FAVICONS: dict[str, object] = {}
+
+
+def check_favicon(page, res: PageResult) -> None:
+    """The page declares an icon (``<link rel="icon">``) that the site serves: without one a
+    browser asks for ``/favicon.ico``, which answers 404."""
+    href = page.evaluate("() => { const l = document.querySelector('link[rel~=\"icon\"]'); "
+                         "return l ? l.href : null; }")
+    if not href:
+        res.problems.append(f"page {res.path}: no <link rel=\"icon\">: browsers ask for "
+                            "/favicon.ico (html.favicon in _config.yml)")
+        return
+    if href not in _FAVICONS:
+        try:
+            with urllib.request.urlopen(urllib.request.Request(href, method="HEAD"),
+                                        timeout=10) as r:
+                _FAVICONS[href] = r.status
+        except OSError as exc:
+            _FAVICONS[href] = str(exc)
+    if _FAVICONS[href] != 200:
+        res.problems.append(f"page {res.path}: its icon {href} answered {_FAVICONS[href]}")
+# ------------------------------------------------------------------ end of accessibility block
 
 
 @dataclass

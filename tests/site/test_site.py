@@ -239,19 +239,28 @@ def test_browser_check_of_every_page(site: Path, capsys) -> None:
         pytest.fail("browser check found problems:\n" + "\n".join(problems))
 
 
+#: a small page the browser check passes: a language, a title and an icon (``ICON``, at the root
+#: of the served folder; axe-core and the favicon check ask for them)
+PLAIN = ('<!doctype html><html lang="en"><head><title>{title}</title>'
+         '<link rel="icon" href="/icon.svg"></head><body><main>{body}</main></body></html>')
+ICON = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 2 2">'
+        '<circle cx="1" cy="1" r="1"/></svg>')
+
+
 def test_browser_check_with_two_browsers_reports_what_one_does(tmp_path: Path) -> None:
     """The browsers that check the pages side by side (``--part`` children of
     tools/browser_check.py) report every page and problem that one browser reports, in the
     same order, and a child that cannot run fails the check."""
     browser_check = _load_browser_check()
-    (tmp_path / "index.html").write_text("<html><body><p>index</p></body></html>")
+    (tmp_path / "icon.svg").write_text(ICON)
+    (tmp_path / "index.html").write_text(PLAIN.format(title="index", body="<p>index</p>"))
     for i in range(5):
         body = f"<p>page {i}</p>"
         if i == 1:
             body += '<img src="missing.png" alt="a figure that is not there">'
         if i == 4:
             body += '<img src="http://example.invalid/x.png" alt="from outside the site">'
-        (tmp_path / f"p{i}.html").write_text(f"<html><body>{body}</body></html>")
+        (tmp_path / f"p{i}.html").write_text(PLAIN.format(title=f"page {i}", body=body))
     found = {}
     for workers in (1, 2):
         lines: list[str] = []
@@ -278,6 +287,23 @@ def test_browser_check_with_two_browsers_reports_what_one_does(tmp_path: Path) -
                for x in problems), problems
 
 
+def test_a_page_without_an_icon_or_with_a_missing_one_fails(tmp_path):
+    """Without ``<link rel="icon">`` a browser asks for /favicon.ico (a 404); an icon the site
+    does not serve is the same 404. A page with a served icon passes."""
+    head = '<!doctype html><html lang="en"><head><title>t</title>{link}</head>'
+    body = "<body><main><p>text</p></main></body></html>"
+    (tmp_path / "icon.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg"/>')
+    for name, link in (("index", '<link rel="icon" href="icon.svg">'), ("none", ""),
+                       ("missing", '<link rel="icon" href="_static/favicon.ico">')):
+        (tmp_path / f"{name}.html").write_text(head.format(link=link) + body)
+    problems = _load_browser_check().check_site(tmp_path, workers=1)
+    problems = [p for p in problems if p.startswith("page ")]
+    assert sorted(p.split(":")[0] for p in problems) == ["page missing.html",
+                                                         "page none.html"], problems
+    assert any("no <link rel=\"icon\">" in p for p in problems)
+    assert any("favicon.ico answered HTTP Error 404" in p for p in problems)
+
+
 def test_browser_check_caches_static_files_and_still_checks_every_pages_fonts(
         site: Path, tmp_path: Path) -> None:
     """The check's server lets Chromium keep static files answered 200 (MathJax, its fonts),
@@ -297,7 +323,8 @@ def test_browser_check_caches_static_files_and_still_checks_every_pages_fonts(
     html = page.read_text(encoding="utf-8")
     for name in ("a.html", "b.html"):
         (here / name).write_text(html, encoding="utf-8")
-    (tmp_path / "index.html").write_text("<html><body><p>index</p></body></html>")
+    (tmp_path / "index.html").write_text(PLAIN.format(title="index", body="<p>index</p>"))
+    (tmp_path / "icon.svg").write_text(ICON)
     fonts = sorted(site.glob("_static/mathjax/**/*.woff*"))
     assert fonts
 
