@@ -15,7 +15,8 @@ from fusioncenter import cli, explore, figures
 from fusioncenter.explore import Slider
 
 #: Every entry with a slider, and one of its values to compute directly.
-SLIDERS = ["mo2015-explore", "dey2009-explore", "leong2011-explore"]
+SLIDERS = ["mo2015-explore", "dey2009-explore", "leong2011-explore", "zheng2014-explore",
+           "synthesis-explore"]
 
 
 @pytest.fixture(scope="module", params=SLIDERS)
@@ -149,3 +150,35 @@ def test_the_leong2011_mean_snr_is_the_sensor_law_s_mean():
         assert abs(gamma * e1**2 / (gamma * e2 + p["sigma_n2"]) / s_eq - 1) < 0.02
     with pytest.raises(ValueError, match="gamma"):
         mod.mean_snr(-1.0)
+
+
+def test_the_zheng2014_slider_moves_the_censoring_schemes_only():
+    data = explore.frames("zheng2014-explore", "fast")
+    names = list(data[0]["schemes"])
+    a, w = names.index("all-send"), names.index("cfwmd")
+    # all-send ignores l: one run, the same numbers in every frame
+    assert len({d["tavg_position"][a] for d in data}) == 1
+    assert all(d["transmissions"][a] == 2.0 for d in data)
+    assert [d["l"] for d in data] == list(explore.get("zheng2014-explore").values)
+    broken = [dict(d) for d in data]
+    for i in (9, 10):  # CFwMD sending 20 % more than l at l = 1.1 and 1.2
+        broken[i]["transmissions"] = broken[i]["transmissions"].copy()
+        broken[i]["transmissions"][w] = 1.2 * broken[i]["l"]
+    claims = explore.sweep_claims("zheng2014-explore", broken)
+    assert not next(c for c in claims if "track l" in c.name).passed
+    assert next(c for c in claims if "never beaten" in c.name).passed
+
+
+def test_the_synthesis_slider_puts_the_trigger_on_its_frontier_curve():
+    data = explore.frames("synthesis-explore", "fast")
+    ref = data[0]["ref_trigger_rate"], data[0]["ref_trigger_pos"]
+    for d in data:  # the reference curves do not depend on the budget
+        assert d["ref_trigger_pos"].tobytes() == ref[1].tobytes()
+        assert np.all(np.diff(d["ref_trigger_rate"]) < 0)  # a larger delta sends less
+        # the trigger tuned to CFwMD's rate sits on the curve of every delta (same trials)
+        on_curve = np.interp(d["trigger_rate"], ref[0][::-1], ref[1][::-1])
+        assert abs(on_curve / d["trigger_pos"] - 1) < 0.03, d["budget"]
+    broken = [dict(d) for d in data]
+    broken[4]["cfwmd_minus_trigger"] = 0.5 * broken[4]["cfwmd_minus_trigger_se"]
+    claims = explore.sweep_claims("synthesis-explore", broken)
+    assert not next(c for c in claims if "below the stochastic trigger" in c.name).passed
