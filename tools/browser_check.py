@@ -1402,6 +1402,10 @@ NOTES_HEADING = "Reproduction notes"
 #: Elements that end a run of prose: a doubled word is looked for inside one of them only.
 _BLOCK_TAGS = {"p", "li", "td", "th", "dt", "dd", "h1", "h2", "h3", "h4", "h5", "h6",
                "figcaption", "caption", "div", "section", "table", "tr", "summary", "blockquote"}
+#: Text that is not typed by hand: glued values, the numbers an explorable figure's slider
+#: sets, section, figure and equation numbers, and the text of internal links ("Fig. 6.1").
+_COMPUTED_CLASSES = ("pasted-text", "pasted-inline", "fc-explore-fact", "section-number",
+                     "caption-number", "eqno", "internal")
 #: Parts of a page whose typed numbers are compared with their own outputs only.
 _SEGMENT_CLASSES = {"solution", "exercise", "admonition", "proof"}
 #: A word written twice in a row (case-insensitive): "the The", "Exercise Exercise".
@@ -1540,7 +1544,7 @@ class _Reading(HTMLParser):
             self._block.append(" ∙ ")  # mathematics stands between two words
         if tag == "pre" and self._has("cell_input") and self._code is None:
             folded = (self._has("tag_hide-input") or self._has("tag_hide-cell")
-                      or self._tag("details"))
+                      or self._tag("details") or self._has("dropdown"))  # a closed solution
             self._code = [] if not (folded or self.in_notes) else None
         if "cell_output" in classes and self._out is None:
             self._out, self._out_depth = [], len(self.stack)
@@ -1579,7 +1583,7 @@ class _Reading(HTMLParser):
         segment = self._segments[-1][1]
         if self._out is not None or self._has("fc-evidence"):
             self.printed.append((segment, data))
-        elif not (self._has("pasted-text") or self._has("pasted-inline") or self._tag("pre")
+        elif not (any(self._has(c) for c in _COMPUTED_CLASSES) or self._tag("pre")
                   or self._tag("script") or self._tag("style") or self._has("cell_input")):
             self.typed.append((segment, data))
         if self._code is not None:

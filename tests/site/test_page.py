@@ -395,6 +395,23 @@ def test_numbers_typed_in_the_text_are_checked_against_the_outputs(prose, flagge
     assert bool(bc.find_contradicted_numbers(page.typed, page.printed)) is flagged
 
 
+@pytest.mark.parametrize("prose", [
+    '<h2><span class="section-number">41.8. </span>A section</h2>',  # a section number
+    'see <a class="reference internal" href="#x">Fig. 41.8</a>',  # a link's own text
+    'the rate is <span class="fc-explore-fact" data-fact="c">41.8</span>',  # a slider's value
+])
+def test_numbers_that_are_not_typed_are_not_compared(prose):
+    page = bc.read_page(SOLUTION.format(prose))
+    assert not bc.find_contradicted_numbers(page.typed, page.printed)
+
+
+def test_a_closed_solution_shows_no_code():
+    page = ('<div class="solution dropdown admonition"><div class="cell docutils container">'
+            '<div class="cell_input docutils container"><div class="highlight"><pre>a = 1\n'
+            '</pre></div></div></div></div>')
+    assert bc.read_page(page).code_lines == 0
+
+
 def test_numbers_are_compared_with_the_outputs_of_their_own_section_only():
     page = bc.read_page("<section><p>C is about 41.8.</p></section>"
                         + SOLUTION.format("nothing typed"))
