@@ -234,7 +234,7 @@ common.register_figure(
     "channel's Riccati sequence below and the tight (17) and loose (18) bounds above, and "
     "the limits of the bounds against the mean gain.",
     chapter=CH_SCALAR,
-    label="explore-dey2009-explore",
+    label="sec-dey2009-sb-explore",
     parameters={**SCALAR, "sigma_v": SIGMA_V, "E[p_0]": P0, "steps": STEPS, "paths": PATHS,
                 "block_size": BLOCK, "mean_gain_grid": list(GAINS)},
     functions=(compute, plot, checks),

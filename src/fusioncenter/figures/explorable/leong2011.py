@@ -287,7 +287,7 @@ common.register_figure(
     "(corrected (24)) and of equal power (16) against the number of sensors M, with the 1/M "
     "law each approaches.",
     chapter=CH_ALLOCATION,
-    label="explore-leong2011-explore",
+    label="sec-leong2011-alloc-explore",
     parameters={**MODEL, "sigma_v2": STATIC["sigma_v2"], "h": STATIC["h"], "M": list(MS),
                 "realizations": REALIZATIONS, "gamma_total_grid": list(BUDGETS)},
     functions=(compute, plot, checks),

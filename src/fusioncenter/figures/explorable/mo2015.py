@@ -192,7 +192,7 @@ common.register_figure(
     "the likelihood of a silence, the Gaussian posterior it leaves, and the sensor's "
     "(communication rate, mean squared error) point on its trade-off curve.",
     chapter="book/mo2015/rate",
-    label="explore-mo2015-explore",
+    label="sec-mo2015-rate-explore",
     parameters={"model": MO, "delta_grid": list(MO_DELTAS)},
     functions=(compute_mo, plot_mo, checks_mo),
     settable=SETTABLE_MO,

@@ -22,7 +22,6 @@ import numpy as np
 from fusioncenter import censoring, plotting, synthesis
 from fusioncenter.context import Parameter
 from fusioncenter.explore import Slider
-from fusioncenter.explore import name as explore_name
 from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
 from fusioncenter.figures import synthesis as fs
@@ -276,7 +275,7 @@ common.register_figure(
     "and all-send, with the Kalman-filter schemes' frontier curves: (a) every scheme, log "
     "scale; (b) a zoom.",
     chapter=fs.CHAPTER,
-    label=explore_name(SE_ID),
+    label="sec-synthesis-explore",
     parameters={**fs.PROBLEM, "budget_grid": list(SE_BUDGETS), "trials": SE_TRIALS,
                 "particles": SE_PARTICLES, "calibration_trials": SE_CALIBRATION,
                 "reference_delta": list(SE_REF_DELTA), "reference_p": list(SE_REF_P)},

@@ -17,7 +17,6 @@ from fusioncenter import censoring as cs
 from fusioncenter import plotting
 from fusioncenter.context import Parameter
 from fusioncenter.explore import Slider
-from fusioncenter.explore import name as explore_name
 from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
@@ -215,7 +214,7 @@ common.register_figure(
     "l of transmissions per step of the slider: (a) each scheme's time-averaged position RMSE "
     "against the transmissions per step it measured, (b) the position RMSE against time.",
     chapter="book/zheng2014/results",
-    label=explore_name(ZE_ID),
+    label="sec-zheng2014-results-explore",
     parameters={**ZE, "l_grid": list(ZE_LS), "trials": ZE_TRIALS, "particles": ZE_PARTICLES,
                 "all-send": "run once at l = N (it ignores l)"},
     functions=(compute_ze, plot_ze, checks_ze),
