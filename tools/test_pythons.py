@@ -38,7 +38,7 @@ NOT_LIBRARY = ["test_repository.py", "test_golden.py", "test_failing_book.py", "
                "test_interrupts.py", "test_structure.py", "test_registry_caption.py",
                "test_registry_texts.py", "test_errata_page.py",
                "test_student_path.py", "test_run_tests.py", "test_build_book_serve.py",
-               "test_nbval_executed.py", "test_kernel_fork.py", "golden",
+               "test_nbval_executed.py", "test_kernel_fork.py", "test_course_shape.py", "golden",
                "site", "test_ext_*.py"]  # test_ext_*: the book's Sphinx extensions
 
 
