@@ -121,7 +121,7 @@ def test_print_shows_the_small_multiples_and_no_control(serve, tmp_path):
     page.emulate_media(media="print")
     shown = page.evaluate("""() => ['.fc-explore-controls', 'img.fc-explore-frame',
         '.fc-explore-print'].map(s => getComputedStyle(document.querySelector(s)).display)""")
-    assert shown == ["none", "none", "grid"]
+    assert shown == ["none", "none", "block"]
     assert page.locator(".fc-explore-multiple img").count() == 2
 
 
