@@ -68,19 +68,6 @@ def _facts_in(node: nodes.Element, facts: dict) -> list[str]:
     return missing
 
 
-def _facts_html(name: str, meta: dict) -> str:
-    """The frames' facts for the browser check (as a registry figure's) and their legible
-    width: on a phone the frame scrolls sideways in its link's box."""
-    from registry_figure import legible_width
-
-    facts = {k: meta[k] for k in ("panels", "columns", "panel_fraction", "min_font_pt",
-                                  "dpi", "width_px", "height_px")}
-    attrs = " ".join(f'data-{k.replace("_", "-")}="{html.escape(str(v))}"'
-                     for k, v in facts.items())
-    return (f'<style>figure#{name} img.fc-explore-frame {{ min-width: {legible_width(meta)}px; '
-            f'}}</style><span class="fc-facts" data-id="{name}" {attrs} hidden></span>')
-
-
 def _controls(name: str, meta: dict, up: str) -> str:
     frames = meta["frames"]
     start = int(meta["start"])
@@ -95,8 +82,10 @@ def _controls(name: str, meta: dict, up: str) -> str:
         f'<div class="fc-explore-multiple"><p>{html.escape(frames[i]["value"])}</p>'
         f'<img src="{up}{src[i]}" alt="{html.escape(frames[i]["alt"])}" loading="eager"/></div>'
         for i in meta["print_at"])
+    from registry_figure import facts_html
+
     return (
-        f'{_facts_html(name, meta)}'
+        f'{facts_html(name, meta, img="img.fc-explore-frame")}'
         f'<div class="fc-explore" data-id="{html.escape(entry_id)}">'
         f'<div class="fc-explore-controls">'
         f'<label for="{name}-slider">{label}</label>'
@@ -181,21 +170,6 @@ class ExplorableFigure(DirectiveBase):
         return [figure, *shown]
 
 
-def _purge(app, env, docname):
-    getattr(env, "fc_explorable_figures", {}).pop(docname, None)
-
-
-def _merge(app, env, docnames, other):
-    mine = env.__dict__.setdefault("fc_explorable_figures", {})
-    for doc in docnames:
-        if doc in getattr(other, "fc_explorable_figures", {}):
-            mine[doc] = other.fc_explorable_figures[doc]
-
-
-def _static(app):
-    app.config.html_static_path.append(str(STATIC))
-
-
 def _write_data(app, exc):
     """Every explorable figure's frames as JSON and CSV (see the module docstring)."""
     if exc is not None or app.builder.format != "html":
@@ -227,8 +201,9 @@ def setup(app):
     app.add_directive("explorable-figure", ExplorableFigure)
     app.add_css_file("explorable.css")
     app.add_js_file("explorable.js", defer="defer")
-    app.connect("builder-inited", _static)
-    app.connect("env-purge-doc", _purge)
-    app.connect("env-merge-info", _merge)
+    from registry_figure import static_folder, track
+
+    static_folder(app, STATIC)
+    track(app, "fc_explorable_figures")
     app.connect("build-finished", _write_data)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -119,14 +119,15 @@ def _figure_node(directive, out, meta: dict, name: str, classes=()) -> nodes.fig
     return figure
 
 
-def _facts_html(name: str, meta: dict) -> str:
+def facts_html(name: str, meta: dict, img: str = "img") -> str:
     """The figure's facts for the browser check (``data-`` attributes of a hidden span) and
-    its smallest legible width: on a phone the image scrolls in its link's box."""
+    its smallest legible width (of the figure's ``img``, a CSS selector): on a phone the image
+    scrolls in its link's box. Shared with book/_ext/explorable.py."""
     facts = {k: meta[k] for k in ("panels", "columns", "panel_fraction", "min_font_pt",
                                   "dpi", "width_px", "height_px")}
     attrs = " ".join(f'data-{k.replace("_", "-")}="{html.escape(str(v))}"'
                      for k, v in facts.items())
-    return (f'<style>figure#{name} img {{ min-width: {legible_width(meta)}px; }}</style>'
+    return (f'<style>figure#{name} {img} {{ min-width: {legible_width(meta)}px; }}</style>'
             f'<span class="fc-facts" data-id="{name}" {attrs} hidden></span>')
 
 
@@ -168,7 +169,7 @@ class RegistryFigure(DirectiveBase):
         env = self.state.document.settings.env
         up = "../" * env.docname.count("/")
         stem = f"{up}{DATA_DIR}/{entry_id}.{meta['profile']}.{meta['seed']}"
-        links = (f'{_facts_html(entry_id, meta)}'
+        links = (f'{facts_html(entry_id, meta)}'
                  f'<p class="fc-figure-data">Data of this figure: '
                  f'<a href="{stem}.json" download>JSON</a> · '
                  f'<a href="{stem}.csv" download>CSV</a> '
@@ -214,24 +215,32 @@ class BookFigure(DirectiveBase):
             return [glue_warning(f"book-figure {name}: the caption must start with a "
                                  "paragraph", self.document, self.line)]
         figure += nodes.caption(first.rawsource, "", *first.children)
-        figure += nodes.legend("", *rest, nodes.raw("", _facts_html(name, meta),
+        figure += nodes.legend("", *rest, nodes.raw("", facts_html(name, meta),
                                                      format="html"))
         return [figure]
 
 
-def _purge(app, env, docname):
-    getattr(env, "fc_registry_figures", {}).pop(docname, None)
+def track(app, attr: str) -> None:
+    """Keep ``env.<attr>`` (docname -> the figures a page shows) through incremental and
+    parallel builds: a re-read page drops its records, a parallel reader's are merged. Shared
+    with book/_ext/explorable.py."""
+
+    def purge(app, env, docname):
+        getattr(env, attr, {}).pop(docname, None)
+
+    def merge(app, env, docnames, other):
+        mine = env.__dict__.setdefault(attr, {})
+        for doc in docnames:
+            if doc in getattr(other, attr, {}):
+                mine[doc] = getattr(other, attr)[doc]
+
+    app.connect("env-purge-doc", purge)
+    app.connect("env-merge-info", merge)
 
 
-def _merge(app, env, docnames, other):
-    mine = env.__dict__.setdefault("fc_registry_figures", {})
-    for doc in docnames:
-        if doc in getattr(other, "fc_registry_figures", {}):
-            mine[doc] = other.fc_registry_figures[doc]
-
-
-def _static(app):
-    app.config.html_static_path.append(str(STATIC))
+def static_folder(app, folder: Path) -> None:
+    """Serve ``folder``'s files from the site's ``_static`` (on ``builder-inited``)."""
+    app.connect("builder-inited", lambda app: app.config.html_static_path.append(str(folder)))
 
 
 def _write_data(app, exc):
@@ -265,8 +274,7 @@ def setup(app):
     app.add_directive("registry-figure", RegistryFigure)
     app.add_directive("book-figure", BookFigure)
     app.add_css_file("registry-figure.css")
-    app.connect("builder-inited", _static)
-    app.connect("env-purge-doc", _purge)
-    app.connect("env-merge-info", _merge)
+    static_folder(app, STATIC)
+    track(app, "fc_registry_figures")
     app.connect("build-finished", _write_data)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1.0"}
