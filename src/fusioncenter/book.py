@@ -13,7 +13,7 @@ from fusioncenter.profile import ENV_VAR, current_profile
 
 __all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "figure",
            "glue", "markdown_table", "md_table", "min_eig", "pm", "reproduce", "setup",
-           "show"]
+           "show", "show_bundle"]
 
 #: Metadata key under which :func:`reproduce` stores what the site's figure directive needs.
 FIGURE_METADATA = "fusioncenter"
@@ -80,8 +80,21 @@ def _shell():
     return get_ipython()
 
 
-def _display(bundle: dict, metadata: dict) -> None:
-    """Show a MIME bundle in a notebook; print its text elsewhere (tests, scripts)."""
+def show_bundle(bundle: dict, metadata: dict) -> None:
+    """Show a MIME bundle in a notebook; print its text elsewhere (tests, scripts).
+
+    Parameters
+    ----------
+    bundle : dict
+        MIME type -> data (``"image/png"`` base64, ``"text/plain"``, ...).
+    metadata : dict
+        The output's metadata (``scrapbook`` for glue, :data:`FIGURE_METADATA` for the site).
+
+    Returns
+    -------
+    None
+        Under IPython the bundle is displayed; elsewhere its ``text/plain`` is printed, if any.
+    """
     if _shell() is None:
         if "text/plain" in bundle:
             print(bundle["text/plain"])
@@ -131,7 +144,7 @@ def _show_figure(entry, fig, profile: str, seed: int) -> None:
     png, facts = plotting.render(fig)
     meta = {**facts, "id": entry.id, "profile": profile, "seed": seed,
             "alt": plotting.describe(fig)}
-    _display({"image/png": base64.b64encode(png).decode("ascii")},
+    show_bundle({"image/png": base64.b64encode(png).decode("ascii")},
              {"scrapbook": {"name": entry.id, "mime_prefix": ""}, FIGURE_METADATA: meta})
 
 
@@ -179,7 +192,7 @@ def figure(name: str, fig) -> None:
     if _shell() is not None:
         png, facts = plotting.render(fig)
         meta = {**facts, "id": name, "alt": plotting.describe(fig)}
-        _display({"image/png": base64.b64encode(png).decode("ascii")},
+        show_bundle({"image/png": base64.b64encode(png).decode("ascii")},
                  {"scrapbook": {"name": name, "mime_prefix": ""}, FIGURE_METADATA: meta})
     plt.close(fig)
 
@@ -233,7 +246,7 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
 
         _show_figure(entry, fig, profile, entry.seed if seed is None else seed)
         plt.close(fig)  # shown once, by the line above (the inline backend would repeat it)
-    _display({"text/plain": evidence_text(entry_id, claims),
+    show_bundle({"text/plain": evidence_text(entry_id, claims),
               "text/html": evidence_html(entry_id, claims)},
              {"scrapbook": {"name": f"{entry_id}-evidence", "mime_prefix": ""}})
     failed = [c.name for c in claims if not c.passed]

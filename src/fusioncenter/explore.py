@@ -335,24 +335,6 @@ def _small_multiples(slider: Slider, pngs: list[bytes]) -> bytes:
     return buf.getvalue()
 
 
-def _shell():
-    try:
-        from IPython import get_ipython
-    except ImportError:  # pragma: no cover (IPython comes with the book's environment)
-        return None
-    return get_ipython()
-
-
-def _display(bundle: dict, metadata: dict) -> None:
-    """Show a MIME bundle in a notebook; print its text elsewhere (tests, scripts)."""
-    if _shell() is None:
-        print(bundle.get("text/plain", ""))
-        return
-    from IPython.display import display
-
-    display(bundle, raw=True, metadata=metadata)
-
-
 def _widgets_wanted() -> bool:
     if os.environ.get(STATIC_ENV, "") not in ("", "0"):
         return False
@@ -360,7 +342,9 @@ def _widgets_wanted() -> bool:
         import ipywidgets  # noqa: F401
     except ImportError:
         return False
-    return type(_shell()).__name__ == "ZMQInteractiveShell"
+    from IPython import get_ipython
+
+    return type(get_ipython()).__name__ == "ZMQInteractiveShell"
 
 
 def explore(entry_id: str, profile: str | None = None, seed: int | None = None) -> list[dict]:
@@ -393,7 +377,7 @@ def explore(entry_id: str, profile: str | None = None, seed: int | None = None) 
     KeyError
         If the entry has no slider.
     """
-    from fusioncenter.book import FIGURE_METADATA, evidence_html, evidence_text
+    from fusioncenter.book import FIGURE_METADATA, evidence_html, evidence_text, show_bundle
 
     slider = get(entry_id)
     profile = current_profile() if profile is None else check_profile(profile)
@@ -408,12 +392,12 @@ def explore(entry_id: str, profile: str | None = None, seed: int | None = None) 
                     shown["frames"][i]["alt"] for i in slider.print_at)}
         meta.pop("small_multiples")
         meta.update(profile=profile, seed=figures.get(entry_id).seed if seed is None else seed)
-        _display({"image/png": shown["small_multiples"],
+        show_bundle({"image/png": shown["small_multiples"],
                   "text/plain": f"<explorable figure {entry_id}: {len(data)} frames of "
                                 f"{slider.parameter}>"},
                  {"scrapbook": {"name": name(entry_id), "mime_prefix": ""},
                   FIGURE_METADATA: meta})
-    _display({"text/plain": evidence_text(entry_id, claims),
+    show_bundle({"text/plain": evidence_text(entry_id, claims),
               "text/html": evidence_html(entry_id, claims)},
              {"scrapbook": {"name": f"{name(entry_id)}-evidence", "mime_prefix": ""}})
     failed = [c.name for c in claims if not c.passed]
