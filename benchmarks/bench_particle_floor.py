@@ -13,7 +13,7 @@ particle-step, with the ratios of the medians):
   :func:`fusioncenter.particle.run_filter`, as ``censoring.run``'s ``_chunk`` does for one
   sub-block (the truth and measurements are drawn beforehand, outside the timing); its
   transition draws NumPy's normals inside the propagation pass when
-  :func:`fusioncenter._ziggurat.tables` is available (the run says whether);
+  :func:`fusioncenter._compiled.ziggurat.tables` is available (the run says whether);
 * ``reference, NumPy draws``: all-send written by hand as one compiled pass per step and trial
   (:func:`_ref_block`: propagate, the sensors' Gaussian log-likelihood and its maximum; then
   ``exp``, the weight sum, the weighted means and the ESS; then systematic resampling fused
@@ -23,7 +23,7 @@ particle-step, with the ratios of the medians):
 * ``reference, in-kernel draws``: the same kernel drawing its normals and uniforms inside the
   compiled pass: SFC64 (NumPy's algorithm, started from the same state) and a 256-layer
   ziggurat laid out as NumPy's, with NumPy's own tables when
-  :func:`fusioncenter._ziggurat.tables` can read them (then its normals are NumPy's bit for
+  :func:`fusioncenter._compiled.ziggurat.tables` can read them (then its normals are NumPy's bit for
   bit; otherwise tables computed here in double precision, whose last bits differ from
   NumPy's: the run prints the fraction of equal draws), trial by trial (so in another order
   than ours: statistically equivalent, not the same numbers). The practical floor.
@@ -56,8 +56,9 @@ import numpy as np  # noqa: E402
 from numba import types  # noqa: E402
 from numba.extending import intrinsic  # noqa: E402
 
-from fusioncenter import _ziggurat, particle  # noqa: E402
 from fusioncenter import censoring as cs  # noqa: E402
+from fusioncenter import particle  # noqa: E402
+from fusioncenter._compiled import ziggurat  # noqa: E402
 from fusioncenter.censoring.fusion import LinearFusionCentre  # noqa: E402
 from fusioncenter.censoring.results import streams  # noqa: E402
 
@@ -153,7 +154,7 @@ def _zig_tables():
 
 #: NumPy's own tables when the library can read them (then the in-kernel normals are NumPy's
 #: bit for bit), else the ones computed here
-_NUMPY_TABLES = _ziggurat.tables()
+_NUMPY_TABLES = ziggurat.tables()
 _KI, _WI, _FI, _ZR = _zig_tables() if _NUMPY_TABLES is None else _NUMPY_TABLES[:4]
 _U11, _U24, _U40, _U3 = np.uint64(11), np.uint64(24), np.uint64(40), np.uint64(3)
 _U1, _U8, _MASK52, _MASK8 = np.uint64(1), np.uint64(8), np.uint64(0xFFFFFFFFFFFFF), np.uint64(255)

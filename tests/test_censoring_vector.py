@@ -178,7 +178,7 @@ def test_truncated_draws_have_the_conditional_mean():
 
 
 def _rejection_reference(rng, b, a, rounds):
-    """The NumPy rejection rounds that ``_kernels.ellipse_reject`` replaced."""
+    """The NumPy rejection rounds that ``vector_terms.ellipse_reject`` replaced."""
     inv_a2 = 1.0 / (a * a)
     out = rng.standard_normal(b.shape)
     out += b

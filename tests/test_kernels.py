@@ -9,7 +9,17 @@ import numpy as np
 import pytest
 from scipy import special
 
-from fusioncenter import _kernels, _normal_kernels, _transition_kernels, _vector_kernels, particle
+from fusioncenter import particle
+from fusioncenter._compiled import (
+    amplitude_terms,
+    inline_normals,
+    log_table,
+    normal_cdf,
+    resampling,
+    transitions,
+    vector_terms,
+    weights,
+)
 from fusioncenter.censoring import _decisions
 from fusioncenter.censoring import _probability_core as pc
 
@@ -54,14 +64,14 @@ def test_systematic_resampling_kernel_equals_numpy(kind, P):
     S = w.sum(axis=1)
     S[:] = [np.cumsum(row)[-1] for row in w]  # the kernel's contract: the sequential sum
     anc = np.empty((m, P), dtype=np.intp)
-    _kernels.systematic_ancestors(w, S, u, np.ones(m, dtype=bool), anc)
+    resampling.systematic_ancestors(w, S, u, np.ones(m, dtype=bool), anc)
     idx = _numpy_systematic(w, u)
     assert np.array_equal(anc, idx)
     for d in (1, 2, 5):  # the d = 2 case is written out in the kernel
         x = rng.standard_normal((m, P, d))
         for layout in (x, particle.by_component(x)):
             new = np.empty_like(layout)
-            _kernels.take_rows(layout, anc, new)
+            resampling.take_rows(layout, anc, new)
             assert np.array_equal(new, np.take_along_axis(x, idx[..., None], axis=1))
     # the ancestors are the library's systematic resampling (it normalizes the weights first:
     # the same counts up to rounding, exact when the mass is on one particle)
@@ -79,7 +89,7 @@ def test_systematic_resampling_kernel_leaves_rows_not_to_resample():
     u = rng.random(m)
     todo = np.array([True, False, True, False, False, True])
     anc = np.empty((m, P), dtype=np.intp)
-    _kernels.systematic_ancestors(w, S, u, todo, anc)
+    resampling.systematic_ancestors(w, S, u, todo, anc)
     assert np.array_equal(anc[~todo], np.broadcast_to(np.arange(P), (int((~todo).sum()), P)))
     assert np.array_equal(anc[todo], _numpy_systematic(w[todo], u[todo]))
 
@@ -92,7 +102,7 @@ def test_systematic_resampling_kernel_is_unbiased():
     w[:] = w[0]
     S = np.full(n_u, np.cumsum(w[0])[-1])
     anc = np.empty((n_u, P), dtype=np.intp)
-    _kernels.systematic_ancestors(w, S, np.arange(n_u) / n_u, np.ones(n_u, dtype=bool), anc)
+    resampling.systematic_ancestors(w, S, np.arange(n_u) / n_u, np.ones(n_u, dtype=bool), anc)
     counts = np.bincount(anc.ravel(), minlength=P) / n_u
     np.testing.assert_allclose(counts, P * w[0] / S[0], atol=2.0 / n_u)
     assert np.array_equal(anc, np.sort(anc, axis=1))  # ancestors in order within a row
@@ -106,7 +116,7 @@ def test_weighted_moments_kernel_equals_numpy(d):
     x = rng.normal(100, 3, (m, P, d))
     S, ess = np.empty((2, m))
     mean = np.empty((m, d))
-    _kernels.weighted_moments(w, particle.by_component(x), S, mean, ess)
+    weights.weighted_moments(w, particle.by_component(x), S, mean, ess)
     np.testing.assert_allclose(S, w.sum(axis=1), rtol=1e-13)
     np.testing.assert_allclose(mean, particle.weighted_mean(x, np.log(w)), rtol=1e-13)
     np.testing.assert_allclose(ess, particle.ess(np.log(w)), rtol=1e-12)
@@ -126,7 +136,7 @@ def test_propagate_kernel_equals_numpy(dt, k):
         p += g[..., j] * L[0, j]
         v += g[..., j] * L[1, j]
     y = particle.by_component(x)
-    _transition_kernels.propagate_wna(y, dt, g, L)
+    transitions.propagate_wna(y, dt, g, L)
     assert np.array_equal(y[..., 0], p) and np.array_equal(y[..., 1], v)
     F = np.array([[1.0, dt], [0.0, 1.0]])
     np.testing.assert_allclose(y, x @ F.T + g @ L.T, rtol=1e-13, atol=1e-13)
@@ -150,7 +160,7 @@ def test_linear_transition_kernel_is_bitwise_matmul(d, k, P):
     if k:
         want += g @ L.T
     got = np.empty_like(x)
-    _transition_kernels.linear_transition(x, F, g, L, got)
+    transitions.linear_transition(x, F, g, L, got)
     np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-12)
     if _BLAS_FMA:
         np.testing.assert_array_equal(got, want)
@@ -203,7 +213,7 @@ def test_nonlinear_kernels_equal_numpy(alpha):
     x = rng.standard_normal((n, P, 4)) * 10
     pos = rng.uniform(-10, 10, (N, 2))
     amp = np.empty((n, N, P))
-    _kernels.amplitudes(x, pos, alpha, 1e3, amp)
+    amplitude_terms.amplitudes(x, pos, alpha, 1e3, amp)
     want = _numpy_amplitudes(x, pos, alpha, 1e3)
     np.testing.assert_array_equal(amp, want)
     sent = rng.random((n, N)) < 0.4
@@ -213,7 +223,7 @@ def test_nonlinear_kernels_equal_numpy(alpha):
     r = rng.uniform(0.5, 2, N)
     # received only: numpy.add.reduceat over the received sensors (first + pairwise rest)
     out = np.empty((n, P))
-    _kernels.received_terms(x, pos, alpha, 1e3, sent, z, -0.5 / r, out)
+    amplitude_terms.received_terms(x, pos, alpha, 1e3, sent, z, -0.5 / r, out)
     e = (want - z[..., None]) ** 2 * (-0.5 / r)[:, None]
     b, i = np.nonzero(sent)
     ref = np.zeros((n, P))
@@ -225,7 +235,7 @@ def test_nonlinear_kernels_equal_numpy(alpha):
     sd = np.sqrt(r)
     amax = np.full((n, N), np.nan)
     got = amp.copy()
-    _kernels.sensor_terms(got, sent, z, -0.5 / r, hxp, sd, amax)
+    amplitude_terms.sensor_terms(got, sent, z, -0.5 / r, hxp, sd, amax)
     off = np.abs(want - hxp[..., None]) / sd[:, None]
     np.testing.assert_array_equal(got[sent], e[sent])
     np.testing.assert_array_equal(got[~sent], off[~sent])
@@ -237,7 +247,7 @@ def test_nonlinear_kernels_equal_numpy(alpha):
 def test_sum_sensors_kernel_is_bitwise_numpy(N, P):
     amp = np.random.default_rng(N * P).standard_normal((3, N, P)) * 10.0 ** np.arange(N)[:, None]
     out = np.empty((3, P))
-    _kernels.sum_sensors(amp, out)
+    amplitude_terms.sum_sensors(amp, out)
     np.testing.assert_array_equal(out, amp.sum(axis=1))
 
 
@@ -255,14 +265,14 @@ def test_fused_resampling_is_the_ancestors_then_the_gather(kind, P):
     todo = rng.random(m) < 0.7
     todo[:2] = True, False
     anc = np.empty((m, P), dtype=np.intp)
-    _kernels.systematic_ancestors(w, S, u, todo, anc)
+    resampling.systematic_ancestors(w, S, u, todo, anc)
     for d in (1, 2, 5):  # the d = 2 case is written out in the kernel
         x = rng.standard_normal((m, P, d))
         for layout in (x, particle.by_component(x)):
             want = np.empty_like(layout)
-            _kernels.take_rows(layout, anc, want)
+            resampling.take_rows(layout, anc, want)
             got = np.full_like(layout, np.nan)
-            _kernels.resample_rows(w, S, u, todo, layout, got)
+            resampling.resample_rows(w, S, u, todo, layout, got)
             assert np.array_equal(got, want)
 
 
@@ -285,7 +295,7 @@ def test_gauss_terms_kernel_is_bitwise_numpy(add, layout):
     if add:
         want = base + want
     got = base.copy()
-    _kernels.gauss_terms(y, zbar, coef, got, add)
+    log_table.gauss_terms(y, zbar, coef, got, add)
     assert np.array_equal(got, want)
 
 
@@ -315,7 +325,7 @@ def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
     assert np.array_equal(got, want)
     # the far rows went through the exact path: the kernel alone reports them
     rows = np.empty(m, dtype=np.intp)
-    k = _kernels.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
+    k = log_table.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
                                    base.copy(), rows)
     assert rows[:k].tolist() == [2, 5]
 
@@ -339,13 +349,13 @@ def test_gauss_and_table_in_one_call_is_bitwise_the_two_kernels(add):
     coef = -0.5 / 1.3 * np.array([1, 2, 0, 1, 0, 2, 1, 0])
     base = rng.standard_normal((m, P))
     want = base.copy()
-    _kernels.gauss_terms(y, zbar, coef, want, add)
+    log_table.gauss_terms(y, zbar, coef, want, add)
     table.shifted_add(y, hp, 1.1, ns, want, np.empty((m, P)))
     got = base.copy()
     table.shifted_add(y, hp, 1.1, ns, got, np.empty((m, P)), (zbar, coef, add))
     assert np.array_equal(got, want)
     rows = np.empty(m, dtype=np.intp)
-    k = _kernels.gauss_table_add(table.coef, table.n_int, y, hp, 1.1 / table.step, ns,
+    k = log_table.gauss_table_add(table.coef, table.n_int, y, hp, 1.1 / table.step, ns,
                                  base.copy(), rows, zbar, coef, add)
     assert rows[:k].tolist() == [3]
 
@@ -354,14 +364,14 @@ def _inline_tables():
     import platform
     import sys
 
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
-    zig = _ziggurat.tables()
+    zig = ziggurat.tables()
     if zig is None and not (sys.platform == "linux" and platform.machine() == "x86_64"):
         # another platform: the loop draws through NumPy (same numbers, slower)
         pytest.skip("NumPy's ziggurat tables are not readable here")
     # on the project's machines (Linux x86-64, NumPy's wheel) they must be found and pass
-    # the check of _ziggurat.tables (inline draws equal to standard_normal)
+    # the check of ziggurat.tables (inline draws equal to standard_normal)
     assert zig is not None
     return zig
 
@@ -369,45 +379,45 @@ def _inline_tables():
 @pytest.mark.parametrize("bits", [np.random.SFC64, np.random.PCG64, np.random.Philox])
 @pytest.mark.parametrize("shape", [(7, 2), (5000, 2), (3, 4096)])
 def test_standard_normal_is_numpys_numbers_and_state(bits, shape):
-    """``_ziggurat.standard_normal(rng, shape)`` (what the vector FC's rejection sampler draws
+    """``ziggurat.standard_normal(rng, shape)`` (what the vector FC's rejection sampler draws
     with): ``rng.standard_normal(shape)``'s numbers, and the generator left where NumPy leaves
     it, whether the draws are inline (SFC64, PCG64, at least INLINE_MIN) or NumPy's."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     _inline_tables()
     mine, ref = np.random.Generator(bits(11)), np.random.Generator(bits(11))
     mine.random(3)
     ref.random(3)
-    got = _ziggurat.standard_normal(mine, shape)
+    got = ziggurat.standard_normal(mine, shape)
     assert got.shape == shape and np.array_equal(got, ref.standard_normal(shape))
     assert np.array_equal(mine.random(5), ref.random(5))
-    assert np.array_equal(_ziggurat.standard_normal(mine, (0, 2)), np.empty((0, 2)))
+    assert np.array_equal(ziggurat.standard_normal(mine, (0, 2)), np.empty((0, 2)))
 
 
 @pytest.mark.parametrize("seed", [0, 2014])
 def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
     """The same for NumPy's default generator, PCG64 (128-bit state and increment): the
     kernels' draws are ``standard_normal``'s numbers and leave its state where NumPy does."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     _inline_tables()
-    zig = _ziggurat.pcg64_tables()
+    zig = ziggurat.pcg64_tables()
     assert zig is not None
     rng = np.random.default_rng(seed)
     rng.random(3)  # anywhere in the stream
-    s = _ziggurat.draw_state(rng)
+    s = ziggurat.draw_state(rng)
     n = 400_000
     got = np.empty(n)
-    _transition_kernels.pcg64_normals(s, *zig, got)
+    inline_normals.pcg64_normals(s, *zig, got)
     want = rng.standard_normal(n)
     assert np.array_equal(got, want)
-    assert np.array_equal(s, _ziggurat.draw_state(rng))
+    assert np.array_equal(s, ziggurat.draw_state(rng))
     assert np.sum(np.abs(want) > zig[3]) > 20  # the tail was drawn
     mine = np.random.default_rng(seed)
     mine.random(3)
-    s = _ziggurat.draw_state(mine)
-    _transition_kernels.pcg64_normals(s, *zig, got)
-    _ziggurat.set_state(mine, s)  # the state goes back into the generator
+    s = ziggurat.draw_state(mine)
+    inline_normals.pcg64_normals(s, *zig, got)
+    ziggurat.set_state(mine, s)  # the state goes back into the generator
     assert np.array_equal(mine.random(5), rng.random(5))
 
 
@@ -415,27 +425,27 @@ def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
 def test_inline_normals_are_numpys_bit_for_bit(seed):
     """The kernels' SFC64 + ziggurat draws are ``standard_normal``'s numbers, and leave the
     stream where NumPy leaves it; the draws include the tail and the wedges."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     zig = _inline_tables()
     rng = np.random.Generator(np.random.SFC64(seed))
-    s = _ziggurat.draw_state(rng)
+    s = ziggurat.draw_state(rng)
     n = 400_000
     got = np.empty(n)
-    _transition_kernels.sfc64_normals(s, *zig, got)
+    inline_normals.sfc64_normals(s, *zig, got)
     want = rng.standard_normal(n)
     assert np.array_equal(got, want)
-    assert np.array_equal(s, _ziggurat.draw_state(rng))
+    assert np.array_equal(s, ziggurat.draw_state(rng))
     assert np.sum(np.abs(want) > zig[3]) > 20  # the tail was drawn
-    assert s[3] - np.uint64(_ziggurat.draw_state(
+    assert s[3] - np.uint64(ziggurat.draw_state(
         np.random.Generator(np.random.SFC64(seed)))[3]) > n  # so were rejections
 
 
 def test_inline_draws_in_the_filter_change_no_bit(monkeypatch):
     """The linear FC's transition with the normals drawn inside the pass against the same
     filter drawing them through NumPy: the same estimates and the same generator state."""
-    from fusioncenter import _ziggurat
     from fusioncenter import censoring as cs
+    from fusioncenter._compiled import ziggurat
     from fusioncenter.censoring.fusion import LinearFusionCentre
 
     _inline_tables()
@@ -445,7 +455,7 @@ def test_inline_draws_in_the_filter_change_no_bit(monkeypatch):
     outs = []
     for inline in (True, False):
         if not inline:
-            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+            monkeypatch.setattr(ziggurat, "tables", lambda: None)
         rng = np.random.Generator(np.random.SFC64(7))
         fc = LinearFusionCentre(sc, "cfwmd", "state", "corrected", cs.threshold(1.0, 2), 1.0,
                                 z, sel)
@@ -460,7 +470,7 @@ def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch
     """``LinearGaussianDynamics.transition`` on an SFC64 stream draws its normals inside the
     compiled pass (``linear_transition_draw``): the same values and the same stream position as
     with ``standard_normal`` then ``linear_transition``."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     _inline_tables()
     rng0 = np.random.default_rng(d + k)
@@ -472,7 +482,7 @@ def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch
     outs = []
     for inline in (True, False):
         if not inline:
-            monkeypatch.setattr(_ziggurat, "tables", lambda: None)
+            monkeypatch.setattr(ziggurat, "tables", lambda: None)
         rng = np.random.Generator(np.random.SFC64(9))
         outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
     for a, b in zip(*outs, strict=True):
@@ -483,7 +493,7 @@ def test_linear_gaussian_transition_inline_draws_change_no_bit(d, k, monkeypatch
 def test_linear_gaussian_transition_pcg64_inline_draws_change_no_bit(d, k, monkeypatch):
     """The same on NumPy's default generator (PCG64, ``linear_transition_draw_pcg64``): the
     values and the stream position of ``standard_normal`` then ``linear_transition``."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     _inline_tables()
     rng0 = np.random.default_rng(d + k)
@@ -492,13 +502,13 @@ def test_linear_gaussian_transition_pcg64_inline_draws_change_no_bit(d, k, monke
     dyn = particle.LinearGaussianDynamics(A, B @ B.T, np.zeros(d), np.eye(d))
     x = rng0.standard_normal((5, 60, d))
     drawn = []
-    monkeypatch.setattr(_transition_kernels, "linear_transition_draw_pcg64",
-                        lambda *a, f=_transition_kernels.linear_transition_draw_pcg64:
+    monkeypatch.setattr(transitions, "linear_transition_draw_pcg64",
+                        lambda *a, f=transitions.linear_transition_draw_pcg64:
                         drawn.append(1) or f(*a))
     outs = []
     for inline in (True, False):
         if not inline:
-            monkeypatch.setattr(_ziggurat, "pcg64_tables", lambda: None)
+            monkeypatch.setattr(ziggurat, "pcg64_tables", lambda: None)
         rng = np.random.default_rng(9)
         outs.append((dyn.transition(rng, 1, x), dyn.transition(rng, 2, x), rng.random(4)))
     assert len(drawn) == 2  # the inline path was taken (twice), then NumPy's
@@ -531,19 +541,19 @@ def test_vector_local_update_kernels_are_the_numpy_arithmetic():
     want0, want1 = F[0, 0] * u0 + F[0, 1] * u1, F[1, 0] * u0 + F[1, 1] * u1
 
     nu = np.empty((m, n, P))
-    _vector_kernels.local_innovations(z, H, h0, h1, nu)
+    vector_terms.local_innovations(z, H, h0, h1, nu)
     assert np.array_equal(nu[0], z[:, 0, None] - (H[0, 0] * h0 + H[0, 1] * h1))
     bs = np.empty((sil.size * P, m))
-    _vector_kernels.silent_offsets(A, pos, vel, h0, h1, sil, bs)
+    vector_terms.silent_offsets(A, pos, vel, h0, h1, sil, bs)
     assert np.array_equal(bs, b_ref)
     g0, g1 = h0.copy(), h1.copy()
-    _vector_kernels.local_update(W, F, nu, nus, sil, g0, g1)
+    vector_terms.local_update(W, F, nu, nus, sil, g0, g1)
     assert np.array_equal(g0.view(np.int64), want0.view(np.int64))
     assert np.array_equal(g1.view(np.int64), want1.view(np.int64))
 
 
 def test_exact_received_kernel_is_the_numpy_arithmetic():
-    """``_vector_kernels.exact_received`` (a received sensor's whitened Gaussian term and the
+    """``vector_terms.exact_received`` (a received sensor's whitened Gaussian term and the
     indicator that it would have sent, in the exact no-feedback vector filter) against the NumPy
     code it replaced, bit for bit, on a subset of rows, with both outcomes of the indicator."""
     rng = np.random.default_rng(32)
@@ -572,14 +582,14 @@ def test_exact_received_kernel_is_the_numpy_arithmetic():
     ok_want[rows] &= nis >= eta
 
     got, ok = lw0.copy(), np.ones((n, P), dtype=bool)
-    _vector_kernels.exact_received(Linv @ zi.T, Linv @ H, zi, H, Si, eta, p, v, h0, h1, rows,
+    vector_terms.exact_received(Linv @ zi.T, Linv @ H, zi, H, Si, eta, p, v, h0, h1, rows,
                                    got, ok)
     assert np.array_equal(got, want)
     assert np.array_equal(ok, ok_want)
 
 
 def test_white_gauss_add_is_the_numpy_arithmetic():
-    """``_vector_kernels.white_gauss_add`` (a group's whitened Gaussian term) against the NumPy
+    """``vector_terms.white_gauss_add`` (a group's whitened Gaussian term) against the NumPy
     code it replaced, bit for bit, rows with and without received sensors."""
     rng = np.random.default_rng(33)
     n, P, m = 5, 30, 2
@@ -597,7 +607,7 @@ def test_white_gauss_add_is_the_numpy_arithmetic():
     acc *= (-0.5 * n_obs)[:, None]
     want += acc
     got = lw0.copy()
-    _vector_kernels.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs, got)
+    vector_terms.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs, got)
     assert np.array_equal(got, want)
 
 
@@ -659,7 +669,7 @@ def test_shift_by_row_max_is_numpys_max_and_subtraction():
     ref[fin] -= ref_mx[fin, None]
     ref[1] = 0.0
     mx = np.empty(6)
-    _kernels.shift_by_row_max(lw, mx)
+    weights.shift_by_row_max(lw, mx)
     assert np.array_equal(mx, ref_mx, equal_nan=True)
     assert np.array_equal(lw, ref, equal_nan=True)
 
@@ -670,7 +680,7 @@ def test_propagate_draw_kernel_is_standard_normal_then_propagate(layout, k):
     """Both paths of ``propagate_wna_draw`` (rows of a component contiguous and ``k = 1``;
     any other) give NumPy's ``standard_normal`` then ``propagate_wna``, and leave the
     generator where ``standard_normal`` does."""
-    from fusioncenter import _ziggurat
+    from fusioncenter._compiled import ziggurat
 
     zig = _inline_tables()
     rng = np.random.default_rng(8)
@@ -679,10 +689,10 @@ def test_propagate_draw_kernel_is_standard_normal_then_propagate(layout, k):
     a = particle.by_component(x0) if layout == "component" else x0.copy()
     ref = x0.copy()
     g1, g2 = (np.random.Generator(np.random.SFC64(9)) for _ in range(2))
-    st = _ziggurat.draw_state(g1)
-    _transition_kernels.propagate_wna_draw(a, 0.5, L, st, *zig)
-    _ziggurat.set_state(g1, st)
-    _transition_kernels.propagate_wna(ref, 0.5, g2.standard_normal((5, 700, k)), L)
+    st = ziggurat.draw_state(g1)
+    transitions.propagate_wna_draw(a, 0.5, L, st, *zig)
+    ziggurat.set_state(g1, st)
+    transitions.propagate_wna(ref, 0.5, g2.standard_normal((5, 700, k)), L)
     assert np.array_equal(a, ref)
     assert np.array_equal(g1.random(4), g2.random(4))
 
@@ -694,7 +704,7 @@ def _bits(a):
 @numba.njit
 def _ndtr_each(a, out):
     for i in range(a.size):
-        out[i] = _normal_kernels.ndtr(a[i])
+        out[i] = normal_cdf.ndtr(a[i])
 
 
 def test_compiled_ndtr_is_scipys_bit_for_bit():

@@ -26,8 +26,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import _kalman_core
 from fusioncenter import _validate as _v
+from fusioncenter._compiled import kalman_step as step_kernel
 from fusioncenter.riccati import singular
 
 __all__ = ["LinearGaussianModel", "KalmanStep", "kalman_step", "constant_velocity"]
@@ -188,7 +188,7 @@ class LinearGaussianModel:
         for k in range(T1):
             innov = y[:, k] - m @ self.C.T
             try:
-                xhat[:, k], Ps[k], m, P = _kalman_core.kalman_step(
+                xhat[:, k], Ps[k], m, P = step_kernel.kalman_step(
                     m, P, innov, self.C, self.R, self.A, self.Q, r_singular=r_singular,
                     check=k == 0)
             except ValueError as err:
@@ -288,7 +288,7 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     _step_shapes(x, P, innov, C, R, A, Q)
     if check:
         _v.covariance("Q", Q)
-    return KalmanStep(*_kalman_core.kalman_step(x, P, innov, C, R, A, Q,
+    return KalmanStep(*step_kernel.kalman_step(x, P, innov, C, R, A, Q,
                                               r_singular=r_singular, check=check))
 
 

@@ -47,8 +47,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import _kalman_core, censoring, montecarlo, particle
 from fusioncenter import _validate as _v
+from fusioncenter import censoring, montecarlo, particle
+from fusioncenter._compiled import kalman_step as step_kernel
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 from fusioncenter.censoring import _probability_core
@@ -355,7 +356,7 @@ def kf_filter(scenario, z, xi, lost, scheme: str, *, delta=None, p=None,
         use = arrived | silent
         Ck = C * use[:, :, None]  # (n, N, 2): a dropped sensor is a zero row
         Rk = noise[:, :, None] * eye
-        xhat[:, t], Ps[:, t], xpred, Ppred = _kalman_core.kalman_step(  # R_k = diag(noise)
+        xhat[:, t], Ps[:, t], xpred, Ppred = step_kernel.kalman_step(  # R_k = diag(noise)
             xpred, Ppred, np.where(arrived, nu, 0.0), Ck, Rk, A, Q,
             r_singular=bool(np.any(noise == 0)))
         sent_all[:, t], arr_all[:, t] = sent, arrived

@@ -2,5 +2,29 @@
 
 Nothing here checks its inputs: the public modules that call a kernel validate first. Each
 kernel has a NumPy/SciPy reference path or a test that holds it bitwise (or to a stated
-tolerance) against the steps it replaces.
+tolerance) against the steps it replaces. The modules:
+
+* :mod:`~fusioncenter._compiled.weights` -- a particle-filter step's log weights shifted by
+  their maximum, then the weight sum, weighted means and effective sample size;
+* :mod:`~fusioncenter._compiled.resampling` -- systematic resampling: the ancestors, the
+  gather, and the two fused;
+* :mod:`~fusioncenter._compiled.transitions` -- the particles' transitions (white-noise
+  acceleration, linear-Gaussian), with the process noise given or drawn inline;
+* :mod:`~fusioncenter._compiled.inline_normals` -- NumPy's standard normals drawn inside those
+  loops (the SFC64 and PCG64 generators and the ziggurat), bit for bit;
+* :mod:`~fusioncenter._compiled.ziggurat` -- NumPy's ziggurat tables, read from the installed
+  NumPy and checked, the generators' state in and out, and ``standard_normal`` through them;
+* :mod:`~fusioncenter._compiled.normal_cdf` -- SciPy's ``ndtr`` bit for bit, and the
+  probability of an interval from it in one pass;
+* :mod:`~fusioncenter._compiled.log_table` -- the scalar fusion centre's log-weight terms: the
+  received sensors' Gaussian terms and the silent sensors' interpolation table;
+* :mod:`~fusioncenter._compiled.ellipse_tables` -- the vector silent probability's bicubic
+  tables at the particles;
+* :mod:`~fusioncenter._compiled.vector_terms` -- the vector fusion centre's passes (the
+  sensors' local Kalman step, the exact filter's received terms, the whitened Gaussian terms,
+  rejection sampling in an ellipse);
+* :mod:`~fusioncenter._compiled.amplitude_terms` -- the nonlinear model's sensor amplitudes
+  and log-weight terms;
+* :mod:`~fusioncenter._compiled.kalman_step` -- the Kalman step of the library's Kalman-filter
+  loops without its shape checks (NumPy).
 """

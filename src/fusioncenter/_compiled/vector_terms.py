@@ -1,10 +1,13 @@
-"""Compiled kernels of the vector fusion centre (:mod:`fusioncenter.censoring.vector_fusion`):
-the sensors' local Kalman step of the exact no-feedback filter, around its draws, a received
-sensor's terms of that filter, and the whitened Gaussian terms of a group of sensors.
+"""Compiled passes of the vector fusion centre (:mod:`fusioncenter.censoring.vector_fusion`):
+the sensors' local Kalman step of the exact no-feedback filter, around its draws
+(:func:`local_innovations`, :func:`silent_offsets`, :func:`local_update`), a received sensor's
+terms of that filter (:func:`exact_received`), the whitened Gaussian terms of a group of
+sensors (:func:`white_gauss_add`), and the rounds of rejection sampling of a normal
+conditioned to an ellipse (:func:`ellipse_reject`).
 
-The rules of :mod:`fusioncenter._kernels`: row by row (a trial's result never depends on the
-other trials of a block), the NumPy code's arithmetic operation for operation, in its order
-(``tests/test_kernels.py`` compares each kernel with that code, bit for bit).
+Row by row (a trial's result never depends on the other trials of a block), the NumPy code's
+arithmetic operation for operation, in its order (``tests/test_kernels.py`` and
+``tests/test_censoring_vector.py`` compare each kernel with that code, bit for bit).
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ import numba
 import numpy as np
 
 __all__ = ["local_innovations", "silent_offsets", "local_update", "exact_received",
-           "white_gauss_add"]
+           "white_gauss_add", "ellipse_reject"]
 
 @numba.njit(cache=True, nogil=True)
 def local_innovations(z, H, h0, h1, nu):
@@ -114,3 +117,33 @@ def white_gauss_add(GT, p, v, cbar, coef, lw):
                 w = w * w
                 acc = w if j == 0 else acc + w
             lw[b, i] = lw[b, i] + acc * c
+
+
+@numba.njit(cache=True, nogil=True)
+def ellipse_reject(u, b, todo, inv_a2, out):
+    """One round of rejection sampling in the ellipse ``sum_j u_j^2 inv_a2[j] < 1``: for
+    ``t < todo.size`` the proposal for point ``i = todo[t]`` is ``u[t] + b[i]``; if inside it is
+    stored in ``out[i]``, otherwise ``i`` is kept. The kept points are packed at the front of
+    ``todo`` (in their order); returns how many. ``u (k, m)`` (standard normal draws; ``k >=
+    todo.size``), ``b, out (K, m)``, ``inv_a2 (m,)``; the arithmetic of
+    ``censoring.vector_fusion``'s NumPy rounds (the draw plus the mean, then ``u_1^2 inv_1``,
+    ``+ u_2^2 inv_2``, ...)."""
+    m = b.shape[1]
+    kept = 0
+    for t in range(todo.shape[0]):
+        i = todo[t]
+        q = 0.0
+        for j in range(m):
+            uj = u[t, j] + b[i, j]
+            u[t, j] = uj
+            if j == 0:
+                q = uj * uj * inv_a2[0]
+            else:
+                q += uj * uj * inv_a2[j]
+        if q < 1.0:
+            for j in range(m):
+                out[i, j] = u[t, j]
+        else:
+            todo[kept] = i
+            kept += 1
+    return kept

@@ -21,7 +21,7 @@ import numpy as np
 import scipy.stats
 from scipy import special
 
-from fusioncenter import _normal_kernels
+from fusioncenter._compiled import normal_cdf
 
 __all__ = ["prob_inside", "log_prob_inside", "INSIDE_CUTOFF", "cdf_owen", "CAREFUL_BELOW",
            "RHO_DEGENERATE", "bivariate_rectangle", "log_bivariate_rectangle",
@@ -146,7 +146,7 @@ def log_prob_inside(m, h):
 
     ``log(Phi(h - |m|) - Phi(-h - |m|))``: two ``ndtr`` calls (``Phi`` of a negative argument is
     evaluated through ``erfc``, with full relative accuracy; for one- and two-dimensional
-    arrays both in one compiled pass, :func:`fusioncenter._normal_kernels.inside_difference`,
+    arrays both in one compiled pass, :func:`fusioncenter._compiled.normal_cdf.inside_difference`,
     SciPy's numbers bit for bit), so the difference loses only
     ``~eps / (1 - exp(-2 |m| h))`` relative accuracy; where it falls below
     :data:`INSIDE_CUTOFF` (deep in the tail, ``|m| - h > 33``) or ``h < 1e-6`` the careful
@@ -170,7 +170,7 @@ def log_prob_inside(m, h):
     if m.ndim == 0 and h.ndim == 0:
         return log_prob_inside(m[None], h[None])[0]
     shape = np.broadcast_shapes(m.shape, h.shape)
-    if 1 <= len(shape) <= 2:  # one compiled pass, SciPy's ndtr bit for bit (_normal_kernels)
+    if 1 <= len(shape) <= 2:  # one compiled pass, SciPy's ndtr bit for bit (normal_cdf)
         # a read-only view: numba reads the writeable flag, which NumPy warns about on the
         # output of np.broadcast_arrays unless it was set explicitly
         h = h.view()
@@ -178,7 +178,7 @@ def log_prob_inside(m, h):
         mb, hb = np.broadcast_to(m, shape), np.broadcast_to(h, shape)
         p = np.empty(shape)
         two = shape if len(shape) == 2 else (1, shape[0])
-        n_bad = _normal_kernels.inside_difference(mb.reshape(two), hb.reshape(two),
+        n_bad = normal_cdf.inside_difference(mb.reshape(two), hb.reshape(two),
                                                   p.reshape(two), INSIDE_CUTOFF, 1e-6)
         bad = (p < INSIDE_CUTOFF) | (hb < 1e-6) if n_bad else None
     else:

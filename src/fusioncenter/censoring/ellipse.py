@@ -46,7 +46,7 @@ import math
 import numpy as np
 from scipy import special
 
-from fusioncenter import _kernels
+from fusioncenter._compiled import ellipse_tables
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _probability_core, scenarios
@@ -465,13 +465,13 @@ class _PowerTable:
 
     def __call__(self, x1, x2):
         """``log P`` at ``(|b_1|, |b_2|) = (x1, x2)`` (non-negative arrays of one shape):
-        :func:`fusioncenter._kernels.power_table` (the gather and the 2-D Horner scheme
-        compiled), then the quadrature beyond the table."""
+        :func:`fusioncenter._compiled.ellipse_tables.power_table` (the gather and the 2-D
+        Horner scheme compiled), then the quadrature beyond the table."""
         x1 = np.ascontiguousarray(x1, dtype=float)
         x2 = np.ascontiguousarray(x2, dtype=float)
         out = np.empty(x1.shape)
         far = np.empty(x1.shape, dtype=bool)
-        _kernels.power_table(self.coef, self.G, self.inv_h, x1, x2, out, far)
+        ellipse_tables.power_table(self.coef, self.G, self.inv_h, x1, x2, out, far)
         if far.any():
             out[far] = log_canon(x1[far], x2[far], self.a1, self.a2)
         return out
@@ -511,9 +511,9 @@ class _Hermite2D:
     def rows(self, x1, x2):
         """``__call__(arange(n_tab)[:, None], x1, x2)`` without ``outside``: row ``r`` of the
         points ``(n_tab, P)`` in table ``r``, compiled
-        (:func:`fusioncenter._kernels.hermite_tables`, the same arithmetic)."""
+        (:func:`fusioncenter._compiled.ellipse_tables.hermite_tables`, the same arithmetic)."""
         out = np.empty(np.shape(x1))
-        _kernels.hermite_tables(self.f, self.f1, self.f2, self.f12, self.o1, self.o2, self.h1,
+        ellipse_tables.hermite_tables(self.f, self.f1, self.f2, self.f12, self.o1, self.o2, self.h1,
                                 self.h2, self.G1, self.G2, x1, x2, out)
         return out
 

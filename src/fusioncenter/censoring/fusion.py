@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, _transition_kernels, _ziggurat, particle
+from fusioncenter import particle
+from fusioncenter._compiled import log_table, transitions, ziggurat
 from fusioncenter.censoring import _decisions
 from fusioncenter.censoring._probability_core import (
     log_gauss,
@@ -303,17 +304,17 @@ class LinearFusionCentre:
     Particles ``(n, P, 2)`` (position, velocity). Organized for speed:
 
     * the transition is one compiled pass
-      (:func:`fusioncenter._transition_kernels.propagate_wna_draw`) that draws NumPy's normals
+      (:func:`fusioncenter._compiled.transitions.propagate_wna_draw`) that draws NumPy's normals
       itself (SFC64 and NumPy's ziggurat, the same numbers in the
-      same order as ``standard_normal``; :mod:`fusioncenter._ziggurat`), or, where NumPy's
-      tables cannot be read, :func:`fusioncenter._transition_kernels.propagate_wna` after
+      same order as ``standard_normal``; :mod:`fusioncenter._compiled.ziggurat`), or, where NumPy's
+      tables cannot be read, :func:`fusioncenter._compiled.transitions.propagate_wna` after
       ``standard_normal``;
     * the silent factor with state feedback is the interpolation table :func:`silent_table`
       (its ``h`` is the same for every trial at a step), evaluated by a compiled kernel, as is the
       corrected Proposition 3 with one sensor received (:func:`region_table`) and, per trial,
       with both received (:func:`interp_rows`); CFwMD2's factor (``h`` differs per trial) uses
       two ``ndtr`` per particle, in one compiled pass
-      (:func:`fusioncenter._normal_kernels.inside_difference`);
+      (:func:`fusioncenter._compiled.normal_cdf.inside_difference`);
     * additive constants of a trial's log weights are dropped, and the covariance is computed
       (by the loop) only when CFwMD2 feeds it back.
 
@@ -426,7 +427,7 @@ class LinearFusionCentre:
                 silent = (silent[0], np.flatnonzero(silent[0]))
             fused = every and self.feedback != "state+cov" and gauss is not None
             if gauss is not None and not fused:
-                _kernels.gauss_terms(y, gauss[0], gauss[1], lw, gauss[2])
+                log_table.gauss_terms(y, gauss[0], gauss[1], lw, gauss[2])
                 started = True
             if silent is None:
                 continue
@@ -524,17 +525,17 @@ class LinearFusionCentre:
         """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``
         (``rng.standard_normal``'s numbers, drawn inside the pass for an SFC64 ``rng``)."""
         shape = (*x.shape[:2], self.LQ.shape[1])
-        zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
+        zig = ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
         if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
-            st = _ziggurat.draw_state(rng)
-            _transition_kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
-            _ziggurat.set_state(rng, st)
+            st = ziggurat.draw_state(rng)
+            transitions.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            ziggurat.set_state(rng, st)
             return x
         if self._g.shape != shape:
             self._g = np.empty(shape)
         if shape[2]:
             rng.standard_normal(out=self._g)
-        _transition_kernels.propagate_wna(x, self.dt, self._g, self.LQ)
+        transitions.propagate_wna(x, self.dt, self._g, self.LQ)
         return x
 
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:

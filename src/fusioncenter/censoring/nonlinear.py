@@ -53,8 +53,9 @@ import math
 
 import numpy as np
 
-from fusioncenter import _kernels, montecarlo, particle
 from fusioncenter import _validate as _v
+from fusioncenter import montecarlo, particle
+from fusioncenter._compiled import amplitude_terms
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _nonlinear_core, _probability_core, fusion, results, scenarios
@@ -249,7 +250,7 @@ def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray
     diff = gn - g
     c2 = 3.0 * diff - 2.0 * dg - dn
     c3 = -2.0 * diff + dg + dn
-    _kernels.hermite_rows(a, rb[tab], ri[tab], off, 1.0 / step, g, dg, c2, c3)
+    amplitude_terms.hermite_rows(a, rb[tab], ri[tab], off, 1.0 / step, g, dg, c2, c3)
 
 
 # ----------------------------------------------------------------------------- the fusion centre
@@ -317,7 +318,7 @@ class _FusionCentre(fusion.ReferenceFC):
         # amp becomes the per-sensor log-likelihood terms, in place (compiled): received,
         # log N(z; h(x), r); silent (CFwMD), the offsets, then their factors
         amax = np.empty(sent.shape)
-        _kernels.sensor_terms(amp, sent, self.z[:, k], -0.5 / self.r, self.hx_pred
+        amplitude_terms.sensor_terms(amp, sent, self.z[:, k], -0.5 / self.r, self.hx_pred
                               if self.hx_pred is not None else amax, self.sd, amax)
         if not sent.all():
             rb, ri = np.nonzero(~sent)
@@ -325,7 +326,7 @@ class _FusionCentre(fusion.ReferenceFC):
         if amp.shape[2] < 2:
             return amp.sum(axis=1)
         out = np.empty((amp.shape[0], amp.shape[2]))
-        _kernels.sum_sensors(amp, out)  # amp.sum(axis=1), one pass
+        amplitude_terms.sum_sensors(amp, out)  # amp.sum(axis=1), one pass
         return out
 
     def _received_only(self, k: int, x: np.ndarray) -> np.ndarray:
@@ -334,7 +335,7 @@ class _FusionCentre(fusion.ReferenceFC):
         n, P = x.shape[:2]
         out = np.zeros((n, P))
         if self.sc.exponent == 2.0 and self.N <= 129:
-            _kernels.received_terms(x, self.pos, float(self.sc.alpha), float(self.sc.power),
+            amplitude_terms.received_terms(x, self.pos, float(self.sc.alpha), float(self.sc.power),
                                     self.sent[:, k], self.z[:, k], -0.5 / self.r, out)
             return out
         b, i = np.nonzero(self.sent[:, k])  # row-major: b is non-decreasing
@@ -360,7 +361,7 @@ class _FusionCentre(fusion.ReferenceFC):
         n, P = x.shape[:2]
         if self.sc.exponent == 2.0:
             out = np.empty((n, self.N, P))
-            _kernels.amplitudes(x, self.pos, float(self.sc.alpha), float(self.sc.power), out)
+            amplitude_terms.amplitudes(x, self.pos, float(self.sc.alpha), float(self.sc.power), out)
             return out
         px = np.ascontiguousarray(x[..., 0])
         py = np.ascontiguousarray(x[..., 2])

@@ -9,7 +9,7 @@ import functools
 
 import numpy as np
 
-from fusioncenter import _kernels
+from fusioncenter._compiled import log_table
 from fusioncenter.censoring._probability_core import (
     log_region_probability,
     prob_inside,
@@ -74,7 +74,7 @@ class LogTable:
         """``f((y - shift[:, None]) * scale)`` for an even table, using ``work`` (the shape of
         ``y``) as scratch (saves three array passes over ``__call__``)."""
         out = work
-        if _kernels.table_shifted(self.coef, self.n_int, y, shift, scale / self.step, out):
+        if log_table.table_shifted(self.coef, self.n_int, y, shift, scale / self.step, out):
             far = np.isnan(out)  # beyond the table, or an interval with a non-finite node
             out[far] = self.fn((y - shift[:, None])[far] * scale)
         return out
@@ -83,18 +83,19 @@ class LogTable:
                     out: np.ndarray, work: np.ndarray, gauss: tuple | None = None) -> None:
         """``out += where(ns == 0, 0, f((y - shift[:, None]) * scale) * ns[:, None])`` for an
         even table (no product where ``ns = 1``), in one compiled pass per row
-        (:func:`fusioncenter._kernels.table_shifted_add`); the rows with a point beyond the
-        table go through :meth:`shifted` (``work`` as scratch, the shape of ``y``), so every
-        value is the arithmetic of :meth:`shifted` followed by the product and the sum.
+        (:func:`fusioncenter._compiled.log_table.table_shifted_add`); the rows with a point
+        beyond the table go through :meth:`shifted` (``work`` as scratch, the shape of ``y``),
+        so every value is the arithmetic of :meth:`shifted` followed by the product and the sum.
         ``gauss = (zbar, coef, add)``: first, in the same call, the received sensors' terms of
-        :func:`fusioncenter._kernels.gauss_terms` (written to ``out`` or added to it), row by
-        row (:func:`fusioncenter._kernels.gauss_table_add`; the same floats as the two calls)."""
+        :func:`fusioncenter._compiled.log_table.gauss_terms` (written to ``out`` or added to
+        it), row by row (:func:`fusioncenter._compiled.log_table.gauss_table_add`; the same
+        floats as the two calls)."""
         rows = np.empty(y.shape[0], dtype=np.intp)
         if gauss is None:
-            k = _kernels.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step,
+            k = log_table.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step,
                                            ns, out, rows)
         else:
-            k = _kernels.gauss_table_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
+            k = log_table.gauss_table_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
                                          out, rows, *gauss)
         if k:
             rows = rows[:k]

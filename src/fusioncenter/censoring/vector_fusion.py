@@ -7,14 +7,8 @@ import math
 
 import numpy as np
 
-from fusioncenter import (
-    _kernels,
-    _transition_kernels,
-    _vector_kernels,
-    _ziggurat,
-    montecarlo,
-    particle,
-)
+from fusioncenter import montecarlo, particle
+from fusioncenter._compiled import transitions, vector_terms, ziggurat
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import _probability_core, fusion, results
@@ -139,16 +133,16 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
     """
     k, m = b.shape
     inv_a2 = 1.0 / (a * a)
-    # the rounds of plain rejection, compiled (_kernels.ellipse_reject): the same draws, in the
+    # the rounds of plain rejection, compiled (vector_terms.ellipse_reject): the same draws, in the
     # same order, as ``u = standard_normal((len(todo), m)) + b[todo]`` per round
-    # (the normals: rng.standard_normal's, drawn by the compiled ziggurat: _ziggurat)
-    out = _ziggurat.standard_normal(rng, (k, m))
+    # (the normals: rng.standard_normal's, drawn by the compiled ziggurat: ziggurat)
+    out = ziggurat.standard_normal(rng, (k, m))
     todo = np.arange(k)
-    left = _kernels.ellipse_reject(out, b, todo, inv_a2, out)
+    left = vector_terms.ellipse_reject(out, b, todo, inv_a2, out)
     for _ in range(rounds - 1):
         if left == 0:
             return out, 0
-        left = _kernels.ellipse_reject(_ziggurat.standard_normal(rng, (left, m)), b,
+        left = vector_terms.ellipse_reject(ziggurat.standard_normal(rng, (left, m)), b,
                                        todo[:left], inv_a2, out)
     todo = todo[:left]
     if todo.size == 0:
@@ -344,7 +338,7 @@ class _FusedVector:
             if n_obs.any():
                 c = np.where(sg[..., None], cw[R, k], 0.0)
                 cbar = c.sum(axis=1) / np.maximum(n_obs, 1)[:, None]
-                _vector_kernels.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs,
+                vector_terms.white_gauss_add(np.ascontiguousarray(G.T), p, v, cbar, -0.5 * n_obs,
                                          lw)
             if not self.silent_fb:
                 continue
@@ -385,7 +379,7 @@ class _FusedVector:
                 if ok is None:
                     ok = np.ones(lw.shape, dtype=bool)
                 # the whitened Gaussian term and the indicator "would have sent", one pass
-                _vector_kernels.exact_received(Linv @ zi.T, Linv @ self.H[i], zi, self.H[i],
+                vector_terms.exact_received(Linv @ zi.T, Linv @ self.H[i], zi, self.H[i],
                                         xr.Sinv[k, i], self.eta, p, v, h0, h1, rows, lw, ok)
             sil = np.flatnonzero(~sent[:, i])
             if sil.size:
@@ -410,18 +404,18 @@ class _FusedVector:
         F = self.sc.F
         a = self.sqeta * self.local["a_scale"][k]
         nu = np.empty((self.m, *pos.shape))
-        for i in range(self.N):  # compiled passes around the draws (_vector_kernels)
+        for i in range(self.N):  # compiled passes around the draws (vector_terms)
             h0, h1 = lp[i]
-            _vector_kernels.local_innovations(self.z[:, k, i], self.H[i], h0, h1, nu)
+            vector_terms.local_innovations(self.z[:, k, i], self.H[i], h0, h1, nu)
             sil = np.flatnonzero(~self.sent[:, k, i])
             nus = np.empty((0, self.m))
             if sil.size:
                 bs = np.empty((sil.size * pos.shape[1], self.m))
-                _vector_kernels.silent_offsets(self.local["A"][k, i], pos, vel, h0, h1, sil, bs)
+                vector_terms.silent_offsets(self.local["A"][k, i], pos, vel, h0, h1, sil, bs)
                 u, left = _sample_in_ellipse(rng, bs, a[i])
                 self.unconverged += left
                 nus = u @ xr.ALinv[k, i].T
-            _vector_kernels.local_update(self.local["gain"][k, i], F, nu, nus, sil, h0, h1)
+            vector_terms.local_update(self.local["gain"][k, i], F, nu, nus, sil, h0, h1)
 
     # --- FilterModel (fusioncenter.particle.run_filter on the whole block)
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
@@ -446,14 +440,14 @@ class _FusedVector:
         if self.exact and t > 1:
             self._local_update(rng, t - 2, x[..., 0], x[..., 1], self._local_views(x))
         kq = self.LQ.shape[1]
-        zig = _ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
+        zig = ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
         if kq and zig is not None:  # NumPy's normals drawn inside the pass, in the same order
-            st = _ziggurat.draw_state(rng)
-            _transition_kernels.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
-            _ziggurat.set_state(rng, st)
+            st = ziggurat.draw_state(rng)
+            transitions.propagate_wna_draw(x, self.dt, self.LQ, st, *zig)
+            ziggurat.set_state(rng, st)
             return x
         g = rng.standard_normal((*x.shape[:2], kq)) if kq else np.empty((*x.shape[:2], 0))
-        _transition_kernels.propagate_wna(x, self.dt, g, self.LQ)
+        transitions.propagate_wna(x, self.dt, g, self.LQ)
         return x
 
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:

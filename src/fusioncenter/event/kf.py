@@ -9,8 +9,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fusioncenter import _kalman_core, riccati
 from fusioncenter import _validate as _v
+from fusioncenter import riccati
+from fusioncenter._compiled import kalman_step as step_kernel
 from fusioncenter.event._common import fires, per_sensor
 from fusioncenter.event.trigger import delta_for_rate, trigger_probability
 from fusioncenter.kalman import LinearGaussianModel
@@ -209,7 +210,7 @@ def event_kf_run(model: LinearGaussianModel, steps: int, scheme: str,
             Ck = C * g[:, :, None]
             Rk = np.broadcast_to(r[:, None] * eye, (n, m, m))
         sing = bool(np.any(np.diagonal(Rk, axis1=-2, axis2=-1) == 0))  # R_k is diagonal
-        xhat[:, k], Ppost[:, k], xpred, Ppred = _kalman_core.kalman_step(  # P0, r checked
+        xhat[:, k], Ppost[:, k], xpred, Ppred = step_kernel.kalman_step(  # P0, r checked
             xpred, Ppred, np.where(g, z, 0.0), Ck, Rk, A, Q, r_singular=sing)
     return EventKFRun(x=x, xhat=xhat, P=Ppost, gamma=gamma, send_prob=send_prob, scheme=scheme)
 
