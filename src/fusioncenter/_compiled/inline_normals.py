@@ -28,17 +28,11 @@ from numba.extending import intrinsic
 
 __all__ = ["normal", "normals_kernel", "sfc64_normals", "pcg64_normals"]
 
-_U1 = np.uint64(1)
-_U3 = np.uint64(3)
-_U8 = np.uint64(8)
-_U11 = np.uint64(11)
-_U24 = np.uint64(24)
-_U40 = np.uint64(40)
-_U58 = np.uint64(58)
-_U63 = np.uint64(63)
-_U64 = np.uint64(64)
-_M8 = np.uint64(0xFF)
-_M52 = np.uint64(0xFFFFFFFFFFFFF)
+#: The shift counts of the generators and of the ziggurat, unsigned.
+_U1, _U3, _U8, _U11, _U24, _U40, _U58, _U63, _U64 = map(np.uint64, (1, 3, 8, 11, 24, 40, 58, 63,
+                                                                    64))
+#: The ziggurat's masks: the layer (8 bits) and the abscissa (52 bits) of an output.
+_M8, _M52 = np.uint64(0xFF), np.uint64(0xFFFFFFFFFFFFF)
 #: NumPy's PCG64 multiplier (``PCG_DEFAULT_MULTIPLIER_128``), high and low 64 bits.
 _PCG_MHI = np.uint64(0x2360ED051FC65DA4)
 _PCG_MLO = np.uint64(0x4385DF649FCCF645)

@@ -26,6 +26,21 @@ __all__ = ["propagate_wna", "propagate_wna_draw", "linear_transition", "linear_t
            "linear_transition_draw_pcg64"]
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _wna_particle(x, b, i, dt, g, L):
+    """Particle ``x[b, i] = (p, v)`` of :func:`propagate_wna`, in place, with its normals
+    ``g (k,)``."""
+    p = x[b, i, 0]
+    v = x[b, i, 1]
+    p = p + v * dt
+    for j in range(g.shape[0]):
+        gj = g[j]
+        p = p + gj * L[0, j]
+        v = v + gj * L[1, j]
+    x[b, i, 0] = p
+    x[b, i, 1] = v
+
+
 @numba.njit(cache=True, nogil=True)
 def propagate_wna(x, dt, g, L):
     """The white-noise-acceleration transition in place: for every particle ``x[b, i] = (p, v)``,
@@ -33,18 +48,9 @@ def propagate_wna(x, dt, g, L):
     ``v <- v + g[b, i, j] L[1, j]`` (``L L^T = Q``), in this order (the NumPy arithmetic of
     ``x F^T + g L^T`` written out for ``F = [[1, dt], [0, 1]]``)."""
     m, P = x.shape[0], x.shape[1]
-    k = g.shape[2]
     for b in range(m):
         for i in range(P):
-            p = x[b, i, 0]
-            v = x[b, i, 1]
-            p = p + v * dt
-            for j in range(k):
-                gj = g[b, i, j]
-                p = p + gj * L[0, j]
-                v = v + gj * L[1, j]
-            x[b, i, 0] = p
-            x[b, i, 1] = v
+            _wna_particle(x, b, i, dt, g[b, i], L)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -69,17 +75,12 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
                 vb[i] = v + gj * l1
         s[0], s[1], s[2], s[3] = s0, s1, s2, s3
         return
+    g = np.empty(k)
     for b in range(m):
         for i in range(P):
-            p = x[b, i, 0]
-            v = x[b, i, 1]
-            p = p + v * dt
             for j in range(k):
-                gj, s0, s1, s2, s3 = normal(False, s0, s1, s2, s3, s, ki, wi, fi, r, inv_r)
-                p = p + gj * L[0, j]
-                v = v + gj * L[1, j]
-            x[b, i, 0] = p
-            x[b, i, 1] = v
+                g[j], s0, s1, s2, s3 = normal(False, s0, s1, s2, s3, s, ki, wi, fi, r, inv_r)
+            _wna_particle(x, b, i, dt, g, L)
     s[0], s[1], s[2], s[3] = s0, s1, s2, s3
 
 

@@ -131,19 +131,48 @@ class LinearGaussianDynamics:
 
     @property
     def dim(self) -> int:
+        """The state dimension ``d``."""
         return self.A.shape[0]
 
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
-        """``(n, P, d)`` draws from ``N(m0, P0)`` (no random numbers used when ``P0 = 0``)."""
+        """``(n, P, d)`` draws from ``N(m0, P0)`` (no random numbers used when ``P0 = 0``).
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The random stream (``rank(P0)`` normals per particle).
+        n, P : int
+            Trials and particles per trial.
+
+        Returns
+        -------
+        numpy.ndarray
+            The particles ``(n, P, d)``, C-contiguous.
+        """
         x = np.broadcast_to(self.m0, (n, P, self.dim)).copy()
         if self._L0.shape[1]:
             x += rng.standard_normal((n, P, self._L0.shape[1])) @ self._L0.T
         return x
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """``A x + u`` for every particle; ``x (..., d)``. On an SFC64 or PCG64 (NumPy's
-        default) stream the normals are drawn inside the compiled pass, NumPy's numbers bit for
-        bit (:mod:`fusioncenter._compiled.ziggurat`)."""
+        """``A x + u`` for every particle. On an SFC64 or PCG64 (NumPy's default) stream the
+        normals are drawn inside the compiled pass, NumPy's numbers bit for bit
+        (:mod:`fusioncenter._compiled.ziggurat`).
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The random stream (``rank(Q)`` normals per particle).
+        t : int
+            The time step (unused: the dynamics do not change with time).
+        x : numpy.ndarray
+            The particles ``(..., d)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The new particles, a new array of ``x``'s shape.
+        """
         # stacked matmul: one small BLAS call per trial (a single (n P) x d product would be
         # split over BLAS threads, which is slow for d = 2 on a busy machine)
         k = self._LQ.shape[1]

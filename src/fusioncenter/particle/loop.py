@@ -52,24 +52,85 @@ def by_component(x) -> np.ndarray:
 
 
 class FilterModel(Protocol):
-    """What :func:`run_filter` needs from a model (see the module docstring).
+    """What :func:`run_filter` needs from a model (see :mod:`fusioncenter.particle`).
+
+    A model may also set ``needs_cov = False`` (default ``True``): the loop then skips the
+    weighted covariance, ``observe`` receives ``cov=None`` and :attr:`FilterOutput.cov` is NaN.
 
     Attributes
     ----------
     dim : int
-        The state dimension ``d``. The methods ``initial``, ``transition``, ``log_weight`` and
-        ``observe`` are described in the module docstring.
+        The state dimension ``d``.
     """
 
     dim: int
 
-    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray: ...
+    def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
+        """Draw the particles of the prior of ``x_0``.
 
-    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray: ...
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The filter's random stream.
+        n, P : int
+            Trials and particles per trial.
 
-    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray: ...
+        Returns
+        -------
+        numpy.ndarray
+            The particles ``(n, P, d)``, in any memory layout (the loop keeps it).
+        """
 
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None: ...
+    def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
+        """Draw ``x_t`` given ``x_{t-1}`` for every particle.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The filter's random stream (the transition draws before the resampling uniforms).
+        t : int
+            The time step, ``1..steps``.
+        x : numpy.ndarray
+            The particles ``x_{t-1}`` ``(n, P, d)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The particles ``x_t`` ``(n, P, d)`` (``x`` itself may be updated in place and
+            returned).
+        """
+
+    def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
+        """The incremental log weight at time ``t``: the log-likelihood of the data received
+        at ``t`` (additive constants may be dropped).
+
+        Parameters
+        ----------
+        t : int
+            The time step.
+        x : numpy.ndarray
+            The particles ``x_t`` ``(n, P, d)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, P)``. The loop normalizes it in place, so the model must not rely on its
+            content afterwards (it may reuse the buffer).
+        """
+
+    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
+        """Receive the filter's estimate after weighting: where a fusion centre records it and
+        prepares what it feeds back to the sensors for time ``t + 1``. May do nothing.
+
+        Parameters
+        ----------
+        t : int
+            The time step.
+        mean : numpy.ndarray
+            ``E[x_t | data]`` ``(n, d)`` (a copy the model may keep).
+        cov : numpy.ndarray or None
+            Its covariance ``(n, d, d)``, or ``None`` if the model does not ``needs_cov``.
+        """
 
 
 @dataclass(frozen=True)
@@ -129,8 +190,8 @@ def run_filter(model: FilterModel, rng: np.random.Generator, n_trials: int, n_pa
     Parameters
     ----------
     model : FilterModel
-        Initial law, transition, log weights and the estimate's consumer (see the module
-        docstring); ``model.dim`` is the state dimension ``d``.
+        Initial law, transition, log weights and the estimate's consumer (see
+        :class:`FilterModel`); ``model.dim`` is the state dimension ``d``.
     rng : numpy.random.Generator
         The filter's random stream (particles, resampling uniforms, whatever the model draws).
     n_trials, n_particles : int

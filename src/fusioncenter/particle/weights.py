@@ -16,15 +16,8 @@ import numpy as np
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 
-__all__ = [
-    "log_normalize",
-    "ess",
-    "systematic_counts",
-    "systematic_resample",
-    "resample",
-    "weighted_mean",
-    "weighted_mean_cov",
-]
+__all__ = ["log_normalize", "ess", "systematic_counts", "systematic_resample", "resample",
+           "weighted_mean", "weighted_mean_cov"]
 
 
 #: The arguments of the weight and resampling functions, by name.
