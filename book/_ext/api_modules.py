@@ -2,7 +2,7 @@
 
 The API page (``book/api.md``) does not list the modules by hand. The directive walks the
 package with :mod:`pkgutil`, keeps the modules whose dotted name has no component starting with
-an underscore (``fusioncenter._kernels`` and ``fusioncenter.__main__`` are private), and writes
+an underscore (``fusioncenter._compiled`` and ``fusioncenter.__main__`` are private), and writes
 reStructuredText for Sphinx's own extensions to render: an ``autosummary`` table of the modules
 (name and first line of the module docstring), then one section per module holding its
 ``automodule`` with ``:members:``. A module added, split or renamed in ``src/`` appears on the
