@@ -9,8 +9,9 @@ A generator's state is four unsigned 64-bit words: SFC64's own four, or PCG64's 
 variables while it draws (in registers: an array's state goes through memory at every draw, as
 the compiler cannot tell it from the particles' arrays) and passes the array only to the
 ziggurat's rare branches. One draw, :func:`normal`, is written once for both generators: its
-``pcg`` flag is a constant of the kernel that calls it (the factories :func:`normals_kernel`
-and :func:`fusioncenter._compiled.transitions`' draw kernels), so the compiler keeps one branch.
+``pcg`` flag is a constant of the kernel that calls it (each kernel is made for one generator by
+a small factory, :func:`normals_kernel` here and the linear transition's in
+:mod:`fusioncenter._compiled.transitions`), so the compiler keeps one branch.
 
 The tables ``ki, wi, fi`` and the tail constants ``r, inv_r`` are NumPy's
 (:func:`fusioncenter._compiled.ziggurat.tables`); ``tests/test_kernels.py`` compares the draws
