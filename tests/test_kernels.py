@@ -12,7 +12,6 @@ from scipy import special
 from fusioncenter import particle
 from fusioncenter._compiled import (
     amplitude_terms,
-    inline_normals,
     log_table,
     normal_cdf,
     resampling,
@@ -408,7 +407,7 @@ def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
     s = ziggurat.draw_state(rng)
     n = 400_000
     got = np.empty(n)
-    inline_normals.pcg64_normals(s, *zig, got)
+    transitions.pcg64_normals(s, *zig, got)
     want = rng.standard_normal(n)
     assert np.array_equal(got, want)
     assert np.array_equal(s, ziggurat.draw_state(rng))
@@ -416,7 +415,7 @@ def test_inline_pcg64_normals_are_numpys_bit_for_bit(seed):
     mine = np.random.default_rng(seed)
     mine.random(3)
     s = ziggurat.draw_state(mine)
-    inline_normals.pcg64_normals(s, *zig, got)
+    transitions.pcg64_normals(s, *zig, got)
     ziggurat.set_state(mine, s)  # the state goes back into the generator
     assert np.array_equal(mine.random(5), rng.random(5))
 
@@ -432,7 +431,7 @@ def test_inline_normals_are_numpys_bit_for_bit(seed):
     s = ziggurat.draw_state(rng)
     n = 400_000
     got = np.empty(n)
-    inline_normals.sfc64_normals(s, *zig, got)
+    transitions.sfc64_normals(s, *zig, got)
     want = rng.standard_normal(n)
     assert np.array_equal(got, want)
     assert np.array_equal(s, ziggurat.draw_state(rng))

@@ -9,9 +9,8 @@ tolerance) against the steps it replaces. The modules:
 * :mod:`~fusioncenter._compiled.resampling` -- systematic resampling: the ancestors, the
   gather, and the two fused;
 * :mod:`~fusioncenter._compiled.transitions` -- the particles' transitions (white-noise
-  acceleration, linear-Gaussian), with the process noise given or drawn inline;
-* :mod:`~fusioncenter._compiled.inline_normals` -- NumPy's standard normals drawn inside those
-  loops (the SFC64 and PCG64 generators and the ziggurat), bit for bit;
+  acceleration, linear-Gaussian), with the process noise given or drawn inline: NumPy's
+  standard normals (the SFC64 and PCG64 generators and the ziggurat), bit for bit;
 * :mod:`~fusioncenter._compiled.ziggurat` -- NumPy's ziggurat tables, read from the installed
   NumPy and checked, the generators' state in and out, and ``standard_normal`` through them;
 * :mod:`~fusioncenter._compiled.normal_cdf` -- SciPy's ``ndtr`` bit for bit, and the

@@ -1,29 +1,184 @@
-"""Compiled transitions of the particle filters: the white-noise-acceleration step of
-:class:`fusioncenter.censoring.LinearFusionCentre` and the vector model
-(:func:`propagate_wna`), the linear-Gaussian transition of
-:class:`fusioncenter.particle.LinearGaussianDynamics` (:func:`linear_transition`), and their
-twins that draw the process noise inline (:func:`propagate_wna_draw`,
-:func:`linear_transition_draw`, :func:`linear_transition_draw_pcg64`) with NumPy's own
-standard normals (:func:`fusioncenter._compiled.inline_normals.normal`).
+"""The particles' random transitions, compiled, with the process noise NumPy would draw: the
+white-noise-acceleration step of :class:`fusioncenter.censoring.LinearFusionCentre` and the
+vector model (:func:`propagate_wna`), the linear-Gaussian transition of
+:class:`fusioncenter.particle.LinearGaussianDynamics` (:func:`linear_transition`), their twins
+that draw the noise inline (:func:`propagate_wna_draw`, :data:`linear_transition_draw`,
+:data:`linear_transition_draw_pcg64`), and the inline draws alone (:data:`sfc64_normals`,
+:data:`pcg64_normals`).
+
+The draws are NumPy's standard normals bit for bit: the bit generators SFC64 and PCG64 and
+NumPy's 256-layer ziggurat, with NumPy's tables ``ki, wi, fi`` and tail constants ``r, inv_r``
+(:func:`fusioncenter._compiled.ziggurat.tables`). A generator's state is four unsigned 64-bit
+words: SFC64's own four, or PCG64's 128-bit state (high, low) then its increment (high, low)
+(the layout of :func:`fusioncenter._compiled.ziggurat.draw_state`). A kernel keeps the state in
+four local variables while it draws (in registers: an array's state goes through memory at
+every draw, as the compiler cannot tell it from the particles' arrays). One draw is written
+once for both generators: the layer test of one output, inlined (:func:`_normal_try`), and,
+for the 1 % of draws it rejects, the rare branches in a call (:func:`_normal_slow`); each
+kernel that draws is made for one generator (its ``pcg`` flag a constant) by a small factory
+where it exists for both. (The caller keeps the test: a helper returning the state from either
+branch made numba's code of the common draw six times slower.) The inline helpers live in this
+module with every kernel that inlines them, since numba's cache of a kernel does not notice a
+change in another file.
 
 One pass per trial, row by row (a trial's result never depends on the other trials of a
 block), the NumPy code's arithmetic operation for operation (``tests/test_kernels.py`` compares
-each kernel with it, the inline draws bit for bit with ``standard_normal``). A particle's
-linear step is written once (:func:`_linear_particle`), inlined into the kernel that takes its
-normals and the two that draw them.
+each kernel with it, the inline draws bit for bit with ``standard_normal``).
 """
 
 from __future__ import annotations
+
+import math
 
 import numba
 import numpy as np
 from numba import types
 from numba.extending import intrinsic
 
-from fusioncenter._compiled.inline_normals import normal
-
 __all__ = ["propagate_wna", "propagate_wna_draw", "linear_transition", "linear_transition_draw",
-           "linear_transition_draw_pcg64"]
+           "linear_transition_draw_pcg64", "sfc64_normals", "pcg64_normals"]
+
+#: The shift counts of the generators and of the ziggurat, unsigned.
+_U1, _U3, _U8, _U11, _U24, _U40, _U58, _U63, _U64 = map(np.uint64, (1, 3, 8, 11, 24, 40, 58, 63,
+                                                                    64))
+#: The ziggurat's masks: the layer (8 bits) and the abscissa (52 bits) of an output.
+_M8, _M52 = np.uint64(0xFF), np.uint64(0xFFFFFFFFFFFFF)
+#: NumPy's PCG64 multiplier (``PCG_DEFAULT_MULTIPLIER_128``), high and low 64 bits.
+_PCG_MHI = np.uint64(0x2360ED051FC65DA4)
+_PCG_MLO = np.uint64(0x4385DF649FCCF645)
+
+
+@intrinsic
+def _umulh(typingctx, a, b):
+    """The high 64 bits of the 128-bit product of two unsigned 64-bit integers."""
+    sig = types.uint64(types.uint64, types.uint64)
+
+    def codegen(context, builder, signature, args):
+        from llvmlite import ir
+
+        i128 = ir.IntType(128)
+        p = builder.mul(builder.zext(args[0], i128), builder.zext(args[1], i128))
+        return builder.trunc(builder.lshr(p, ir.Constant(i128, 64)), ir.IntType(64))
+
+    return sig, codegen
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _sfc64_step(a, b, c, w):
+    """The next 64-bit output of SFC64 (NumPy's algorithm) from the state ``(a, b, c, w)``.
+    Returns ``(output, a, b, c, w)``, the state advanced."""
+    out = a + b + w
+    return out, b ^ (b >> _U11), c + (c << _U3), ((c << _U24) | (c >> _U40)) + out, w + _U1
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _pcg64_step(hi, lo, ihi, ilo):
+    """The next 64-bit output of NumPy's PCG64 (``pcg_setseq_128_xsl_rr_64``): the 128-bit
+    state ``(hi, lo)`` times the multiplier plus the increment ``(ihi, ilo)``, then the XOR of
+    its halves rotated right by its top 6 bits. Returns ``(output, hi, lo, ihi, ilo)``, the
+    state advanced."""
+    nhi = _umulh(lo, _PCG_MLO) + hi * _PCG_MLO + lo * _PCG_MHI
+    nlo = lo * _PCG_MLO
+    lo2 = nlo + ilo
+    hi2 = nhi + ihi + np.uint64(lo2 < nlo)  # the carry, without a branch
+    v = hi2 ^ lo2
+    rot = hi2 >> _U58
+    return (v >> rot) | (v << ((_U64 - rot) & _U63)), hi2, lo2, ihi, ilo
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _step(pcg, a, b, c, w):
+    """:func:`_pcg64_step` if ``pcg``, else :func:`_sfc64_step`."""
+    if pcg:
+        out, a, b, c, w = _pcg64_step(a, b, c, w)
+    else:
+        out, a, b, c, w = _sfc64_step(a, b, c, w)
+    return out, a, b, c, w
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _double(pcg, s):
+    """A uniform in ``[0, 1)`` from the top 53 bits of the next output of the state array
+    ``s (4,) uint64`` (NumPy's ``next_double``), ``s`` advanced."""
+    out, s[0], s[1], s[2], s[3] = _step(pcg, s[0], s[1], s[2], s[3])
+    return np.float64(out >> _U11) * (1.0 / 9007199254740992.0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal_rare(pcg, s, idx, rabs, x, fi, r, inv_r):
+    """The ziggurat's rare branches (about 1 % of the draws), after the layer test failed for
+    the 64-bit output that gave ``idx``, ``rabs`` and ``x``: the tail (layer 0) or the wedge
+    test, drawing from the state array ``s``. Returns ``(accepted, value)``; not accepted: the
+    caller draws again."""
+    if idx == 0:
+        while True:
+            xx = -inv_r * math.log1p(-_double(pcg, s))
+            yy = -math.log1p(-_double(pcg, s))
+            if yy + yy > xx * xx:
+                return True, (-(r + xx) if (rabs >> _U8) & _U1 else r + xx)
+    if (fi[idx - 1] - fi[idx]) * _double(pcg, s) + fi[idx] < math.exp(-0.5 * x * x):
+        return True, x
+    return False, 0.0
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _normal_try(pcg, a, b, c, w, ki, wi):
+    """The ziggurat's layer test on the next 64-bit output of the state ``(a, b, c, w)``
+    (PCG64 if ``pcg``, else SFC64): 8 bits pick the layer ``idx``, one the sign, 52 the
+    abscissa ``rabs``. Returns ``(accepted, value, idx, rabs, a, b, c, w)``, the state
+    advanced; not accepted: :func:`_normal_slow` goes on from there."""
+    u, a, b, c, w = _step(pcg, a, b, c, w)
+    idx = np.intp(u & _M8)
+    u = u >> _U8
+    rabs = (u >> _U1) & _M52
+    x = np.float64(rabs) * wi[idx]
+    if u & _U1:
+        x = -x
+    return rabs < ki[idx], x, idx, rabs, a, b, c, w
+
+
+@numba.njit(cache=True, nogil=True)
+def _normal_slow(pcg, a, b, c, w, s, idx, rabs, x, ki, wi, fi, r, inv_r):
+    """The draw after a failed layer test (``idx``, ``rabs``, ``x``): the rare branches
+    through the state array ``s``, then new tries until one is accepted. Returns ``(value, a,
+    b, c, w)``, the state advanced (``s`` too holds a state: the caller writes its own back
+    at the end)."""
+    while True:
+        s[0], s[1], s[2], s[3] = a, b, c, w
+        ok, x = _normal_rare(pcg, s, idx, rabs, x, fi, r, inv_r)
+        a, b, c, w = s[0], s[1], s[2], s[3]
+        if ok:
+            return x, a, b, c, w
+        ok, x, idx, rabs, a, b, c, w = _normal_try(pcg, a, b, c, w, ki, wi)
+        if ok:
+            return x, a, b, c, w
+
+
+def _normals_kernel(pcg: bool):
+    """The compiled fill kernel ``(s, ki, wi, fi, r, inv_r, out)`` of one generator (PCG64 if
+    ``pcg``, else SFC64): ``out`` (flat order) filled with standard normals drawn from the
+    state ``s (4,) uint64``, which is left advanced; ``standard_normal``'s numbers."""
+
+    @numba.njit(cache=True, nogil=True)
+    def fill(s, ki, wi, fi, r, inv_r, out):
+        o = out.reshape(-1)
+        a, b, c, w = s[0], s[1], s[2], s[3]
+        for n in range(o.shape[0]):
+            ok, x, idx, rabs, a, b, c, w = _normal_try(pcg, a, b, c, w, ki, wi)
+            if not ok:
+                x, a, b, c, w = _normal_slow(pcg, a, b, c, w, s, idx, rabs, x, ki, wi, fi, r,
+                                             inv_r)
+            o[n] = x
+        s[0], s[1], s[2], s[3] = a, b, c, w
+
+    return fill
+
+
+#: ``(s, ki, wi, fi, r, inv_r, out)``: ``out`` filled with NumPy's standard normals from the
+#: SFC64 state ``s`` (flat order), ``s`` left advanced as NumPy leaves its generator.
+sfc64_normals = _normals_kernel(False)
+#: :data:`sfc64_normals` for NumPy's PCG64.
+pcg64_normals = _normals_kernel(True)
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
@@ -60,7 +215,7 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
     same numbers, the same arithmetic, without the array of normals."""
     m, P = x.shape[0], x.shape[1]
     k = L.shape[1]
-    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]  # the state in registers (inline_normals)
+    s0, s1, s2, s3 = s[0], s[1], s[2], s[3]  # the state in registers
     if k == 1 and x.strides[1] == 8 and P > 1:  # stored by component: rows of a component
         l0, l1 = L[0, 0], L[1, 0]
         for b in range(m):
@@ -70,7 +225,10 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
                 p = pb[i]
                 v = vb[i]
                 p = p + v * dt
-                gj, s0, s1, s2, s3 = normal(False, s0, s1, s2, s3, s, ki, wi, fi, r, inv_r)
+                ok, gj, idx, rabs, s0, s1, s2, s3 = _normal_try(False, s0, s1, s2, s3, ki, wi)
+                if not ok:
+                    gj, s0, s1, s2, s3 = _normal_slow(False, s0, s1, s2, s3, s, idx, rabs, gj,
+                                                      ki, wi, fi, r, inv_r)
                 pb[i] = p + gj * l0
                 vb[i] = v + gj * l1
         s[0], s[1], s[2], s[3] = s0, s1, s2, s3
@@ -79,7 +237,11 @@ def propagate_wna_draw(x, dt, L, s, ki, wi, fi, r, inv_r):
     for b in range(m):
         for i in range(P):
             for j in range(k):
-                g[j], s0, s1, s2, s3 = normal(False, s0, s1, s2, s3, s, ki, wi, fi, r, inv_r)
+                ok, gj, idx, rabs, s0, s1, s2, s3 = _normal_try(False, s0, s1, s2, s3, ki, wi)
+                if not ok:
+                    gj, s0, s1, s2, s3 = _normal_slow(False, s0, s1, s2, s3, s, idx, rabs, gj,
+                                                      ki, wi, fi, r, inv_r)
+                g[j] = gj
             _wna_particle(x, b, i, dt, g, L)
     s[0], s[1], s[2], s[3] = s0, s1, s2, s3
 
@@ -155,7 +317,11 @@ def _linear_draw_kernel(pcg: bool):
         for b in range(n):
             for p in range(P):
                 for m in range(k):
-                    g[m], s0, s1, s2, s3 = normal(pcg, s0, s1, s2, s3, s, ki, wi, fi, r, inv_r)
+                    ok, gm, idx, rabs, s0, s1, s2, s3 = _normal_try(pcg, s0, s1, s2, s3, ki, wi)
+                    if not ok:
+                        gm, s0, s1, s2, s3 = _normal_slow(pcg, s0, s1, s2, s3, s, idx, rabs,
+                                                          gm, ki, wi, fi, r, inv_r)
+                    g[m] = gm
                 _linear_particle(x, b, p, F, g, L, k, out)
         s[0], s[1], s[2], s[3] = s0, s1, s2, s3
 

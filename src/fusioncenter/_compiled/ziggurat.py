@@ -3,20 +3,19 @@
 ``numpy.random.Generator.standard_normal`` on an SFC64 bit generator is a 256-layer ziggurat
 (one 64-bit output per draw in 99 % of the cases: 8 bits pick the layer, one the sign, 52 the
 abscissa; the wedges and the tail use more outputs and ``exp`` / ``log1p``). The kernels of
-:mod:`fusioncenter._compiled.transitions` run the same algorithm inline
-(:mod:`fusioncenter._compiled.inline_normals`), so
-a particle filter draws its noise in the pass that uses it, with NumPy's numbers. What they
-need is NumPy's own three tables (acceptance bounds ``ki``, widths ``wi``, densities ``fi``):
-these were generated at high precision and cannot be recomputed in double precision to the
-last bit, so :func:`tables` reads them from the installed NumPy's compiled ``_generator``
-module (its ELF symbol table names them), and accepts them only if the inline draws then
-reproduce ``standard_normal`` bit for bit on a check stream that exercises the tail and the
-wedges. Anything else (another platform, a stripped build, another NumPy algorithm, a failed
-check) returns ``None``, and the callers draw through NumPy as before: the results are the
-same either way, only the speed differs. NumPy's default generator, PCG64, has its own inline
-twin (:func:`pcg64_tables` checks it the same way): the filters of the censoring FCs run on
-SFC64, the library's :class:`fusioncenter.particle.LinearGaussianDynamics` on whichever of the
-two it is given (the nonlinear FC and the chapters' own models use ``default_rng``).
+:mod:`fusioncenter._compiled.transitions` run the same algorithm inline, so a particle filter
+draws its noise in the pass that uses it, with NumPy's numbers. What they need is NumPy's own
+three tables (acceptance bounds ``ki``, widths ``wi``, densities ``fi``): these were generated
+at high precision and cannot be recomputed in double precision to the last bit, so
+:func:`tables` reads them from the installed NumPy's compiled ``_generator`` module (its ELF
+symbol table names them), and accepts them only if the inline draws then reproduce
+``standard_normal`` bit for bit on a check stream that exercises the tail and the wedges.
+Anything else (another platform, a stripped build, another NumPy algorithm, a failed check)
+returns ``None``, and the callers draw through NumPy as before: the results are the same either
+way, only the speed differs. NumPy's default generator, PCG64, has its own inline twin
+(:func:`pcg64_tables` checks it the same way): the filters of the censoring FCs run on SFC64,
+the library's :class:`fusioncenter.particle.LinearGaussianDynamics` on whichever of the two it
+is given (the nonlinear FC and the chapters' own models use ``default_rng``).
 """
 
 from __future__ import annotations
@@ -94,7 +93,7 @@ def tables():
     ``None`` (see the module docstring). ``FUSIONCENTER_INLINE_NORMALS=0`` disables them."""
     if os.environ.get("FUSIONCENTER_INLINE_NORMALS", "1") == "0":
         return None
-    from fusioncenter._compiled import inline_normals
+    from fusioncenter._compiled import transitions
 
     here = os.path.dirname(np.random.__file__)
     for path in sorted(glob.glob(os.path.join(here, "_generator*"))):
@@ -110,7 +109,7 @@ def tables():
         rng = np.random.Generator(np.random.SFC64(20141031))
         s = draw_state(rng)
         mine = np.empty(CHECK_DRAWS)
-        inline_normals.sfc64_normals(s, *zig, mine)
+        transitions.sfc64_normals(s, *zig, mine)
         want = rng.standard_normal(CHECK_DRAWS)
         if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)):
             return zig
@@ -120,18 +119,18 @@ def tables():
 @functools.cache
 def pcg64_tables():
     """:func:`tables` for NumPy's default bit generator, PCG64: the same tables, accepted only
-    if the inline PCG64 draws (:data:`fusioncenter._compiled.inline_normals.pcg64_normals`) then
+    if the inline PCG64 draws (:data:`fusioncenter._compiled.transitions.pcg64_normals`) then
     reproduce ``standard_normal`` bit for bit, and leave the generator's state where NumPy's
     draws leave it; else ``None``."""
     zig = tables()
     if zig is None:
         return None
-    from fusioncenter._compiled import inline_normals
+    from fusioncenter._compiled import transitions
 
     rng = np.random.Generator(np.random.PCG64(20141031))
     s = draw_state(rng)
     mine = np.empty(CHECK_DRAWS)
-    inline_normals.pcg64_normals(s, *zig, mine)
+    transitions.pcg64_normals(s, *zig, mine)
     want = rng.standard_normal(CHECK_DRAWS)
     return zig if np.array_equal(mine, want) and np.array_equal(s, draw_state(rng)) else None
 
@@ -144,7 +143,7 @@ INLINE_MIN = 4096
 
 def standard_normal(rng: np.random.Generator, shape: tuple) -> np.ndarray:
     """``rng.standard_normal(shape)``: the same numbers, and ``rng`` left in the same state,
-    drawn by the compiled ziggurat (:data:`fusioncenter._compiled.inline_normals.sfc64_normals` or
+    drawn by the compiled ziggurat (:data:`fusioncenter._compiled.transitions.sfc64_normals` or
     ``pcg64_normals``) when ``rng`` runs on SFC64 or PCG64, the tables check (:func:`tables`,
     :func:`pcg64_tables`) and there are at least :data:`INLINE_MIN` draws; else by NumPy."""
     n = math.prod(shape)
@@ -154,10 +153,10 @@ def standard_normal(rng: np.random.Generator, shape: tuple) -> np.ndarray:
         zig = tables() if kind is np.random.SFC64 else pcg64_tables()
     if zig is None:
         return rng.standard_normal(shape)
-    from fusioncenter._compiled import inline_normals
+    from fusioncenter._compiled import transitions
 
-    fill = (inline_normals.sfc64_normals if kind is np.random.SFC64
-            else inline_normals.pcg64_normals)
+    fill = (transitions.sfc64_normals if kind is np.random.SFC64
+            else transitions.pcg64_normals)
     out = np.empty(shape)
     s = draw_state(rng)
     fill(s, *zig, out)
