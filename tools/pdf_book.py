@@ -4,14 +4,14 @@
     python tools/pdf_book.py --site _build/fast/_build/html    # -> _build/fast/_build/pdf/book.pdf
 
 No TeX: each page of the built HTML site is loaded in headless Chromium (Debian's
-``/usr/bin/chromium`` driven by playwright, as in tools/browser_check.py), MathJax typesets it,
+``/usr/bin/chromium`` driven by playwright: tools/headless.py), MathJax typesets it,
 print CSS wraps code and outputs instead of clipping them and opens every collapsed block
 (hidden inputs, solutions), and Chromium prints it. pypdf then merges the pages behind a title
 page and a table of contents (with the page where each chapter starts), stamps page numbers
 and adds one bookmark per chapter under one per part. The PDF is written next to the site:
 ``<site>/../pdf/book.pdf``.
 
-The printing is :class:`Printer`'s; in ``make test`` the browser check (tools/browser_check.py)
+The printing is :class:`Printer`'s; in ``make test`` the browser check (tools/browser_check)
 drives it from the pages it has just loaded and checked, and the PDF is the same: its 775 pages
 render to the same pixels as this script's.
 """
@@ -21,11 +21,9 @@ from __future__ import annotations
 import argparse
 import functools
 import html
-import http.server
 import io
 import json
 import shutil
-import socketserver
 import sys
 import threading
 import time
@@ -35,10 +33,10 @@ from urllib.parse import unquote, urlsplit
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-# VIEWPORT: the window build_pdf prints from, the browser check's; the print layout does not
-# depend on it (the 238 pages of the API page print the same from 1000 x 1400 and 400 x 900)
-from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY, VIEWPORT  # noqa: E402
 from chapters import ROOT  # noqa: E402
+
+# VIEWPORT: the window build_pdf prints from, the browser check's
+from headless import LOCAL_HOST, VIEWPORT, LoopbackServer, QuietHandler, launch  # noqa: E402
 
 #: Pages under this prefix (the API reference's module pages) are printed into api.pdf.
 APPENDIX = "book/api/"
@@ -170,15 +168,6 @@ NUMBER_JS = """
 """
 
 
-class _Quiet(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, format, *args):  # noqa: A002 (the base class's name)
-        pass
-
-
-class _Server(socketserver.ThreadingMixIn, http.server.HTTPServer):
-    daemon_threads = True
-
-
 def toc_entries() -> list[tuple[str | None, str]]:
     """``(part caption or None, docname)`` for every page of ``_toc.yml`` in order."""
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
@@ -277,7 +266,7 @@ class Printer:
     """Prints the site's pages into one PDF, a page of the browser at a time.
 
     :func:`build_pdf` loads every page of the table of contents for it; the browser check of
-    ``make test`` (``tools/browser_check.py``) hands it each page it has just checked instead,
+    ``make test`` (``tools/browser_check``) hands it each page it has just checked instead,
     so that the site is loaded and typeset once for both. Either way a page is printed by
     :meth:`add` from the same state: loaded, :data:`PRINT_CSS` added, every collapsed block
     opened and MathJax's typesetting awaited.
@@ -580,18 +569,16 @@ def build_pdf(site: Path, out: Path) -> dict:
     from playwright.sync_api import sync_playwright
 
     printer = Printer(site, out)
-    handler = functools.partial(_Quiet, directory=str(site))
-    server = _Server(("127.0.0.1", 0), handler)
+    handler = functools.partial(QuietHandler, directory=str(site))
+    server = LoopbackServer((LOCAL_HOST, 0), handler)
     threading.Thread(target=server.serve_forever, daemon=True).start()
-    base = f"http://127.0.0.1:{server.server_address[1]}"
+    base = f"http://{LOCAL_HOST}:{server.server_address[1]}"
     try:
         with sync_playwright() as pw:
             # nothing but this server is reachable: any other host fails to resolve at once
             # (in Chromium itself: intercepting every request in Python cost a fifth of the
             # page loads; the browser check is the one that reports external requests)
-            browser = pw.chromium.launch(
-                executable_path=CHROMIUM, headless=True,
-                args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
+            browser = launch(pw)
             page = browser.new_page(viewport=VIEWPORT)
             for _part, doc in printer.entries + printer.appendix:
                 screen_media(page)
