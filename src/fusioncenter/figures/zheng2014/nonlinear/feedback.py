@@ -3,7 +3,7 @@
 CFwMD (state feedback, Proposition 7) against CFwMD2 (state and covariance feedback,
 Proposition 8) at ``l`` in :data:`L_FIG10`: the RMSE curves (Fig. 10) and the transmissions per
 step next to the printed :data:`TABLE3_PRINTED` (Table III), from one computation
-(:func:`_fig10_table3`, cached) on the shared runs of
+(``_fig10_table3``, cached) on the shared runs of
 :func:`~fusioncenter.figures.zheng2014.nonlinear.scenario.runs`.
 """
 

@@ -46,7 +46,8 @@ FIG8_SCHEMES = ("all-send", "random", "cfomd", "cfwmd")
              "``rise_pooled`` (RMSE at 10 s minus at 5 s); each with its ``_stderr``; "
              "``collapsed``.", raises=RAISES)
 def compute_fig8(profile: str, seed: int, **over) -> dict:
-    """Fig. 8: the four schemes at ``l = 2`` with state feedback (runs shared by :func:`runs`)."""
+    """Fig. 8: the four schemes at ``l = 2`` with state feedback (runs shared by
+    :func:`~fusioncenter.figures.zheng2014.nonlinear.scenario.runs`)."""
     specs = [spec(s, L_FIG8) for s in FIG8_SCHEMES]
     got = runs(profile, seed, specs, **over)
     res = [got[s] for s in specs]
@@ -101,7 +102,8 @@ def plot_fig8(data: dict):
 @checks_doc()
 def checks_fig8(data: dict) -> list[Claim]:
     """Fig. 8: CFwMD beats CFoMD and random selection, all-send beats CFwMD, CFwMD sends at
-    most ``l``, the RMSEs rise at the end (paired, at :func:`z_required`)."""
+    most ``l``, the RMSEs rise at the end (paired, at
+    :func:`~fusioncenter.figures.zheng2014.nonlinear.scenario.z_required`)."""
     def zd(name):
         return data[f"diff_{name}"], z_score(data[f"diff_{name}"], data[f"diff_{name}_stderr"])
 
