@@ -20,6 +20,9 @@ by every scheme and every ``l`` of an entry, so differences between curves are p
 
 Data keys (plain NumPy arrays and numbers; the chapter ``book/zheng2014/results`` prints them):
 see :data:`DATA_KEYS`.
+
+One concept, kept in one module (above 450 lines): the scalar entries of Section VII.A, which
+share their scenario, run sizes, :data:`DATA_KEYS` and parameters.
 """
 
 from __future__ import annotations
