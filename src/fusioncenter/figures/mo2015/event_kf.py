@@ -14,14 +14,7 @@ import numpy as np
 
 from fusioncenter import event, montecarlo, plotting
 from fusioncenter.context import Parameter
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    plot_doc,
-    register_figure,
-    settings,
-    trials_parameter,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.mo2015.static import Z_TOL
 from fusioncenter.figures.registry import Claim
 from fusioncenter.models import tracking_model
@@ -36,8 +29,8 @@ TRACKING_TRIALS = {"fast": 2_000, "paper": 20_000}
 CALIBRATION_TRIALS = {"fast": 500, "paper": 5_000}
 #: The overridable parameters (``--set key=value``).
 SETTABLE_TRACKING = (
-    trials_parameter(TRACKING_TRIALS, "Monte Carlo tracks per scheme and rate"),
-    trials_parameter(CALIBRATION_TRIALS, "tracks of the calibration of each delta",
+    common.trials_parameter(TRACKING_TRIALS, "Monte Carlo tracks per scheme and rate"),
+    common.trials_parameter(CALIBRATION_TRIALS, "tracks of the calibration of each delta",
                      name="calibration_trials"),
     Parameter("sigma2", "float", "process-noise intensity of the tracking model (m^2/s^3)",
               TRACKING["sigma2"], minimum=1e-6, model=True),
@@ -88,7 +81,7 @@ def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> di
     }
 
 
-@compute_doc("""``k``, ``rate_target`` (R,), the calibrated ``delta`` (R,) with
+@common.compute_doc("""``k``, ``rate_target`` (R,), the calibrated ``delta`` (R,) with
              ``calibration_rate``, ``calibration_stderr``, ``calibration_tol``; ``m``,
              ``n_trials``, ``n_calibration``, ``seed``; per scheme (``stochastic_*``,
              ``random_*``: one row per rate; ``all_send_*``) the per-step ``mse_k``, ``p_k``,
@@ -98,7 +91,7 @@ def _tracking_run(model, steps: int, scheme: str, n: int, seed: int, **kw) -> di
 def compute_tracking(profile: str, seed: int, **over) -> dict:
     """Data of ``mo2015-tracking``: the event-triggered filter, random selection and all-send
     on :func:`tracking`, one calibrated ``delta`` per target rate (the same tracks for all)."""
-    v = settings("mo2015-tracking", SETTABLE_TRACKING, profile, over)
+    v = common.settings("mo2015-tracking", SETTABLE_TRACKING, profile, over)
     model = tracking(v["sigma2"], v["r"])
     steps, rates = TRACKING["steps"], np.array(TRACKING["rates"])
     n, n_cal = v["trials"], v["calibration_trials"]
@@ -143,7 +136,7 @@ def _rmse(mse, se):
     return rmse, se / (2 * rmse)
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_tracking(data: dict):
     """(a) position and (b) velocity RMSE against transmissions per step, per scheme."""
     fig, axes = plotting.subplots(1, 2, stack=True)
@@ -174,7 +167,7 @@ def plot_tracking(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc()
+@common.checks_doc()
 def checks_tracking(data: dict) -> list[Claim]:
     """The rates, the trigger below random selection, the filters' exactness and all-send the
     lower bound."""
@@ -209,7 +202,7 @@ def checks_tracking(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="mo2015-tracking",
     paper="mo2015",
     caption="The event-triggered Kalman filter (stochastic trigger on the innovation, exact "

@@ -12,14 +12,7 @@ import functools
 import numpy as np
 
 from fusioncenter import event, montecarlo, plotting
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    plot_doc,
-    register_figure,
-    settings,
-    trials_parameter,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.mo2015.static import (
     EXAMPLE,
     Z_TOL,
@@ -34,7 +27,8 @@ CHAPTER_RATE = "book/mo2015/rate"
 RATE_DELTAS = np.geomspace(0.02, 50.0, 13)
 RATE_TRIALS = {"fast": 4_000, "paper": 100_000}
 #: The overridable parameter (``--set key=value``).
-SETTABLE_RATE = (trials_parameter(RATE_TRIALS, "Monte Carlo draws of the example's measurements"),)
+SETTABLE_RATE = (common.trials_parameter(RATE_TRIALS,
+                                         "Monte Carlo draws of the example's measurements"),)
 
 
 def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
@@ -52,7 +46,7 @@ def _rate_chunk(rng: np.random.Generator, n: int, *, deltas) -> np.ndarray:
     return np.stack([g0, g1], axis=2).astype(float)
 
 
-@compute_doc("""``s`` (m,) the output variances and ``mu`` (m,) the prior means ``a_i xbar``;
+@common.compute_doc("""``s`` (m,) the output variances and ``mu`` (m,) the prior means ``a_i xbar``;
              ``delta_fine`` (201,) and on it ``rate_zero_mean``, ``rate_xbar`` (201, m) the
              closed-form rates, ``rate_notes`` the notes' formula, ``delta_back_zero_mean``,
              ``delta_back_xbar`` the deltas recovered from the rates; ``delta_mc`` (D,) and
@@ -70,7 +64,7 @@ def compute_rate(profile: str, seed: int, **over) -> dict:
     notes = 1.0 - 1.0 / np.sqrt(1.0 + s[None, :] / fine[:, None])  # the notes' formula, verbatim
     back0 = event.delta_for_rate(rate0, s[None, :], 0.0)
     back1 = event.delta_for_rate(rate1, s[None, :], mu[None, :])
-    n = settings("mo2015-rate", SETTABLE_RATE, profile, over)["trials"]
+    n = common.settings("mo2015-rate", SETTABLE_RATE, profile, over)["trials"]
     res = montecarlo.simulate(functools.partial(_rate_chunk, deltas=RATE_DELTAS), n, seed)
     closed = np.stack([np.array([event.communication_rate(Sigma, C, r, d) for d in RATE_DELTAS]),
                        np.array([event.communication_rate(Sigma, C, r, d, xbar)
@@ -85,7 +79,7 @@ def compute_rate(profile: str, seed: int, **over) -> dict:
     }
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_rate(data: dict):
     """Rate against ``delta`` per sensor, panel (a) prior mean 0 and panel (b) ``xbar``, with the
     Monte Carlo points."""
@@ -116,7 +110,7 @@ def plot_rate(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc()
+@common.checks_doc()
 def checks_rate(data: dict) -> list[Claim]:
     """The notes' formula, the simulation, monotonicity in ``delta``, the effect of the prior
     mean and the inversion by ``delta_for_rate``."""
@@ -153,7 +147,7 @@ def checks_rate(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="mo2015-rate",
     paper="mo2015",
     caption="Communication rate P(γᵢ = 1) against the trigger parameter δ for the three "

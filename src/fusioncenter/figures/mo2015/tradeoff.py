@@ -13,14 +13,7 @@ import functools
 import numpy as np
 
 from fusioncenter import event, montecarlo, plotting, riccati
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    plot_doc,
-    register_figure,
-    settings,
-    trials_parameter,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.mo2015.static import (
     EXAMPLE,
     Z_TOL,
@@ -40,7 +33,7 @@ CHAPTER_CM = "book/mo2015/conditional-mean"
 TRADEOFF_RATES = np.round(np.linspace(0.1, 0.9, 9), 10)
 TRADEOFF_TRIALS = {"fast": 4_000, "paper": 100_000}
 #: The overridable parameter (``--set key=value``).
-SETTABLE_TRADEOFF = (trials_parameter(TRADEOFF_TRIALS,
+SETTABLE_TRADEOFF = (common.trials_parameter(TRADEOFF_TRIALS,
                                       "Monte Carlo draws of the example's state and measurements"),)
 
 
@@ -73,7 +66,8 @@ def _tradeoff_chunk(rng: np.random.Generator, n: int, *, rates, deltas) -> np.nd
     return np.stack(cols, axis=1)
 
 
-@compute_doc("""``rate_fine`` (49,) with ``mse_exact_stochastic_fine``, ``mse_exact_random_fine``
+@common.compute_doc(
+    """``rate_fine`` (49,) with ``mse_exact_stochastic_fine``, ``mse_exact_random_fine``
              the exact MSE curves; at the Monte Carlo rates ``rate`` (L,) (``delta`` (L, m)):
              ``mse_exact_*``, and for ``stochastic`` and ``random`` the simulated ``mse_*``,
              ``rate_*`` (and ``trP_stochastic``), each with ``*_stderr``; ``diff`` and ``resid``
@@ -91,7 +85,7 @@ def compute_tradeoff(profile: str, seed: int, **over) -> dict:
     exact_r = np.array([expected_trace_random(Sigma, C, r, p) for p in fine])
     rates = TRADEOFF_RATES
     deltas = tradeoff_deltas(rates)
-    n = settings("mo2015-tradeoff", SETTABLE_TRADEOFF, profile, over)["trials"]
+    n = common.settings("mo2015-tradeoff", SETTABLE_TRADEOFF, profile, over)["trials"]
     res = montecarlo.simulate(functools.partial(_tradeoff_chunk, rates=rates, deltas=deltas),
                               n, seed)
     L = len(rates)
@@ -121,7 +115,7 @@ def compute_tradeoff(profile: str, seed: int, **over) -> dict:
     }
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_tradeoff(data: dict):
     """MSE against rate: exact curves and Monte Carlo points of both schedulers, all-send and
     the prior as horizontal lines."""
@@ -144,7 +138,7 @@ def plot_tradeoff(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc()
+@common.checks_doc()
 def checks_tradeoff(data: dict) -> list[Claim]:
     """The closed forms against the simulation, the rates, the trigger below random selection
     and all-send the lower bound."""
@@ -186,7 +180,7 @@ def checks_tradeoff(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="mo2015-tradeoff",
     paper="mo2015",
     caption="Mean squared error against communication rate for a 2-state, 3-sensor static "

@@ -12,14 +12,7 @@ import time
 import numpy as np
 
 from fusioncenter import censoring, plotting, synthesis
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    plot_doc,
-    register_figure,
-    settings,
-    trials_parameter,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.synthesis.problem import CHAPTER, PROBLEM, Z_TOL, scenario
 from fusioncenter.profile import by_profile
@@ -28,10 +21,11 @@ from fusioncenter.profile import by_profile
 COST_PARTICLES = {"fast": (25, 50, 100, 200, 500), "paper": (25, 50, 100, 200, 500, 1000)}
 #: Monte Carlo trials per particle count, per profile, and the overridable parameter.
 COST_TRIALS = {"fast": 256, "paper": 1024}
-SETTABLE_COST = (trials_parameter(COST_TRIALS, "Monte Carlo trials per particle count"),)
+SETTABLE_COST = (common.trials_parameter(COST_TRIALS, "Monte Carlo trials per particle count"),)
 
 
-@compute_doc("""``particles`` and ``particles_fine`` (the counts timed, the counts of the model);
+@common.compute_doc(
+    """``particles`` and ``particles_fine`` (the counts timed, the counts of the model);
              ``kf_flops``, ``kf_special``, ``pf_flops_S`` (S in all-send, cfomd, cfwmd),
              ``pf_special_cfwmd``, ``pf_flops_at`` (the operation-count model); ``kf_time``,
              ``pf_time_allsend``, ``pf_time_cfwmd`` (seconds per step and trial); ``kf_rmse``,
@@ -39,7 +33,7 @@ SETTABLE_COST = (trials_parameter(COST_TRIALS, "Monte Carlo trials per particle 
 def compute_cost(profile: str, seed: int, **over) -> dict:
     """Data of ``synthesis-cost``: operations, times and the PF's excess error, by particles."""
     sc = scenario()
-    n = settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
+    n = common.settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
     particles = np.array(by_profile(profile, **COST_PARTICLES))
     steps = n * sc.T
     kf = synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n, seed=seed)[0]
@@ -78,7 +72,7 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
     }
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_cost(data: dict):
     """(a) Operation count (CFoMD dashed on all-send's equal count), (b) time, (c) excess RMSE."""
     fig, axes = plotting.subplots(1, 3, stack=True)
@@ -120,7 +114,7 @@ def plot_cost(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc()
+@common.checks_doc()
 def checks_cost(data: dict) -> list[Claim]:
     """The operation-count claims and what the particles buy (the times are not checked)."""
     ratio = data["pf_flops_at"] / data["kf_flops"]
@@ -152,7 +146,7 @@ def checks_cost(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
+common.register_figure(
     id="synthesis-cost",
     paper="book",
     caption="Computational cost per step of the Kalman filter (mo2015's trigger, random "

@@ -14,44 +14,27 @@ import functools
 import numpy as np
 
 from fusioncenter import plotting, synthesis
-from fusioncenter.figures.common import (
-    checks_doc,
-    compute_doc,
-    document,
-    plot_doc,
-    register_figure,
-    settings,
-)
+from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
-from fusioncenter.figures.synthesis.problem import (
-    CHAPTER,
-    PARTICLES,
-    PROBLEM,
-    SETTABLE_FRONTIER,
-    STATS_DOC,
-    TRIALS,
-    Z_TOL,
-    calibrate,
-    paired,
-    scenario,
-    stack,
-)
+from fusioncenter.figures.synthesis import problem
 
 #: Outage probabilities of the fading entry, and its budget (l = 1: one transmission per step).
 OUTAGES = (0.0, 0.1, 0.2, 0.4)
 FADING_L = 1.0
 #: The overridable parameters: the frontier's (trials, particles, calibration trials).
-SETTABLE_FADING = SETTABLE_FRONTIER
+SETTABLE_FADING = problem.SETTABLE_FRONTIER
 #: Iterations of the energy-matched fixed point (per-packet power from the measured rate).
 ENERGY_ITERATIONS = 3
 
 
-@document(returns=(("allsend, random, trigger : list of fusioncenter.synthesis.Summary",
-                    "One run per outage of ``eps_full``."), ("design, measured : numpy.ndarray",
-                    "The trigger's per-sensor rate (the outages' design, then measured).")),
-          raises=(), sc=("fusioncenter.censoring.LinearScenario", "The problem."),
-          eps_full=("numpy.ndarray", "All-send's outages."), n=("int", "Trials per run."),
-          p=("float", "Random selection's send probability."), delta=("float", "The trigger's."))
+@common.document(
+    returns=(("allsend, random, trigger : list of fusioncenter.synthesis.Summary",
+              "One run per outage of ``eps_full``."),
+             ("design, measured : numpy.ndarray",
+              "The trigger's per-sensor rate (the outages' design, then measured).")),
+    raises=(), sc=("fusioncenter.censoring.LinearScenario", "The problem."),
+    eps_full=("numpy.ndarray", "All-send's outages."), n=("int", "Trials per run."),
+    p=("float", "Random selection's send probability."), delta=("float", "The trigger's."))
 def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     """Energy-matched runs at all-send outage ``eps_full``: all-send at ``eps_full``, random
     selection and the trigger (CSI receiver) at ``energy_matched_outage(eps_full, rate)``, the
@@ -73,17 +56,19 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     return res[:k], res[k:], trig, used, rho
 
 
-@compute_doc(f"""``outage``, ``gain_threshold``, ``p``, ``delta``, ``N``, ``l``, ``n_trials``,
+@common.compute_doc(
+    f"""``outage``, ``gain_threshold``, ``p``, ``delta``, ``N``, ``l``, ``n_trials``,
               ``n_particles``, ``seed``; for the groups ``allsend``, ``random``, ``trigger_csi``,
               ``trigger_naive``, ``cfomd``, ``cfwmd_csi``, ``cfwmd_naive`` (per outage),
               ``energy_allsend``, ``energy_random``, ``energy_trigger`` (per
-              ``energy_outage_full``): {STATS_DOC} (``G_step``, ``G_rate_step``, ``G_rate_span``,
+              ``energy_outage_full``): {problem.STATS_DOC} (``G_step``, ``G_rate_step``,
+              ``G_rate_span``,
               ``cfwmd_naive_minus_csi``, ...); ``G_calibration(_se)``;
               ``energy_trigger_rho_design``, ``energy_trigger_rho``, ``energy_*_outage``.""")
 def compute_fading(profile: str, seed: int, **over) -> dict:
     """Data of ``synthesis-fading``: the schemes through Rayleigh block-fading links."""
-    sc = scenario()
-    v = settings("synthesis-fading", SETTABLE_FADING, profile, over)
+    sc = problem.scenario()
+    v = common.settings("synthesis-fading", SETTABLE_FADING, profile, over)
     n, n_p = v["trials"], v["particles"]
     N = sc.N
     eps = np.array(OUTAGES)
@@ -95,7 +80,7 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
                                     for e in eps[1:]]  # at outage 0 the receivers coincide
     # the KF schemes at CFwMD's measured rate on the perfect link
     p = cfwmd_csi[0].rate()[0] / N
-    delta = float(calibrate([p], profile, seed, v["calibration_trials"])[0])
+    delta = float(problem.calibrate([p], profile, seed, v["calibration_trials"])[0])
     runs = []
     for e in eps:
         runs += [synthesis.KFRun("all-send", outage=float(e)),
@@ -110,14 +95,14 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
                  "gain_threshold": np.array([synthesis.outage_threshold(float(e)) for e in eps])}
     groups = {**kf, "cfomd": cfomd, "cfwmd_csi": cfwmd_csi, "cfwmd_naive": cfwmd_naive}
     for name, lst in groups.items():
-        stack(lst, name, out)
-        paired(lst[1:], lst[:-1], out, f"{name}_step")  # RMSE increase per outage step
-        paired(lst[1:], lst[:-1], out, f"{name}_rate_step", rate=True)
-        paired(lst[-1:], lst[:1], out, f"{name}_rate_span", rate=True)
-    paired(cfwmd_naive, cfwmd_csi, out, "cfwmd_naive_minus_csi")
-    paired(kf["trigger_naive"], kf["trigger_csi"], out, "trigger_naive_minus_csi")
-    paired(cfwmd_naive, cfomd, out, "cfwmd_naive_minus_cfomd")
-    paired(cfwmd_csi, cfomd, out, "cfwmd_csi_minus_cfomd")
+        problem.stack(lst, name, out)
+        problem.paired(lst[1:], lst[:-1], out, f"{name}_step")  # RMSE increase per outage step
+        problem.paired(lst[1:], lst[:-1], out, f"{name}_rate_step", rate=True)
+        problem.paired(lst[-1:], lst[:1], out, f"{name}_rate_span", rate=True)
+    problem.paired(cfwmd_naive, cfwmd_csi, out, "cfwmd_naive_minus_csi")
+    problem.paired(kf["trigger_naive"], kf["trigger_csi"], out, "trigger_naive_minus_csi")
+    problem.paired(cfwmd_naive, cfomd, out, "cfwmd_naive_minus_cfomd")
+    problem.paired(cfwmd_csi, cfomd, out, "cfwmd_csi_minus_cfomd")
     for name in ("trigger_csi", "trigger_naive", "allsend"):
         c = [s.calibration() for s in kf[name]]
         out[f"{name}_calibration"] = np.array([v for v, _ in c])
@@ -130,10 +115,10 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     out["energy_trigger_rho"] = rho  # the rate it then measured
     out["energy_trigger_outage"] = synthesis.energy_matched_outage(eps_full, used)
     out["energy_random_outage"] = synthesis.energy_matched_outage(eps_full, p)
-    stack(e_all, "energy_allsend", out)
-    stack(e_rand, "energy_random", out)
-    stack(e_trig, "energy_trigger", out)
-    paired(e_trig, e_all, out, "energy_trigger_minus_allsend")
+    problem.stack(e_all, "energy_allsend", out)
+    problem.stack(e_rand, "energy_random", out)
+    problem.stack(e_trig, "energy_trigger", out)
+    problem.paired(e_trig, e_all, out, "energy_trigger_minus_allsend")
     return out
 
 
@@ -152,7 +137,7 @@ _FADING_SERIES = [  # key, label, scheme (its look), line style (naive: dotted, 
 _EVENT = ("trigger_csi", "trigger_naive", "cfomd", "cfwmd_csi", "cfwmd_naive")
 
 
-@plot_doc()
+@common.plot_doc()
 def plot_fading(data: dict):
     """(a) RMSE, (b) what the naive receiver costs, (c) packets, (d) error over tr P, (e) energy."""
     fig, (a, b, c, d, e) = plotting.subplots(5, 1, stack=True, height_ratios=[5, 3, 3, 3, 3])
@@ -198,7 +183,7 @@ def plot_fading(data: dict):
     return plotting.finish(fig)
 
 
-@checks_doc()
+@common.checks_doc()
 def checks_fading(data: dict) -> list[Claim]:
     """Outage monotonicity, naive receivers, exactness, packets spent, equal energy."""
     def z(name):
@@ -221,55 +206,56 @@ def checks_fading(data: dict) -> list[Claim]:
     energy = data["energy_trigger_rho"] / data["energy_trigger_rho_design"]
     return [
         Claim("every scheme's RMSE grows with the outage probability (each step, paired "
-              "z > 4)", bool(np.all(zmono > Z_TOL)), f"smallest z = {np.min(zmono):.1f}"),
+              "z > 4)", bool(np.all(zmono > problem.Z_TOL)), f"smallest z = {np.min(zmono):.1f}"),
         Claim("reading a lost packet as silence costs accuracy: naive receivers above the "
               "channel-aware ones (paired z > 4 for CFwMD at every outage > 0, for the trigger "
               "from outage 0.2), far more for deterministic censoring (CFwMD) than for the "
               "stochastic trigger",
-              bool(np.all(zn_w > Z_TOL) and np.all(zn_t > 0)
-                   and np.all(zn_t[data["outage"][1:] >= 0.2] > Z_TOL)
+              bool(np.all(zn_w > problem.Z_TOL) and np.all(zn_t > 0)
+                   and np.all(zn_t[data["outage"][1:] >= 0.2] > problem.Z_TOL)
                    and np.all(cost_naive > cost_naive_t)),
               "CFwMD +" + ", +".join(f"{100 * v:.0f}%" for v in cost_naive) + "; trigger +"
               + ", +".join(f"{100 * v:.0f}%" for v in cost_naive_t)),
         Claim("silence as information is fragile: the naive CFwMD falls behind CFoMD (which "
               "ignores silence) at the largest outage (z > 4), while the channel-aware CFwMD stays "
               "ahead of CFoMD (z < -4 up to outage 0.2, z < 0 beyond)",
-              bool(z_nc[-1] > Z_TOL and np.all(z_cc < 0)
-                   and np.all(z_cc[data["outage"] <= 0.2] < -Z_TOL)),
+              bool(z_nc[-1] > problem.Z_TOL and np.all(z_cc < 0)
+                   and np.all(z_cc[data["outage"] <= 0.2] < -problem.Z_TOL)),
               f"naive - CFoMD z = {z_nc[-1]:.1f}; channel-aware - CFoMD z = "
               + ", ".join(f"{v:.1f}" for v in z_cc)),
         Claim("with channel knowledge the trigger's Kalman filter stays exact (and all-send's): "
               "mean(‖e‖² − tr P) = 0 within 4 s.e.; the naive trigger's P is overconfident "
               "(z > 4) at every outage > 0",
-              bool(np.all(np.abs(zc) < Z_TOL) and np.all(zc_naive > Z_TOL)),
+              bool(np.all(np.abs(zc) < problem.Z_TOL) and np.all(zc_naive > problem.Z_TOL)),
               f"max |z| exact = {np.max(np.abs(zc)):.2f}; naive z = "
               + ", ".join(f"{v:.1f}" for v in zc_naive)),
         Claim("event-based schemes spend more packets as the channel worsens: more at the "
               "largest outage than on a perfect link (paired z > 4), never significantly fewer "
-              "from one outage to the next", bool(np.all(zspan > Z_TOL) and np.all(zr > -Z_TOL)),
+              "from one outage to the next",
+              bool(np.all(zspan > problem.Z_TOL) and np.all(zr > -problem.Z_TOL)),
               "sent at outage 0 → max: " + ", ".join(
                   f"{data[k + '_rate'][0]:.3f} → {data[k + '_rate'][-1]:.3f}" for k in _EVENT)),
         Claim("at equal energy (within 2%: per-packet power = budget / design rate, the "
               "measured rate then within 2% of it) and the largest outage, the trigger (half the "
               "packets, about twice the power each) beats all-send (paired z < -4)",
-              bool(ze[-1] < -Z_TOL and np.all(np.abs(energy - 1) < 0.02)),
+              bool(ze[-1] < -problem.Z_TOL and np.all(np.abs(energy - 1) < 0.02)),
               f"z = {ze[-1]:.1f} at ε₁ = {data['energy_outage_full'][-1]:g}; energy used / "
               "budget = " + ", ".join(f"{v:.3f}" for v in energy)),
     ]
 
 
-register_figure(
+common.register_figure(
     id="synthesis-fading",
     paper="book",
     caption="The same schemes over Rayleigh block-fading packet links (dey2009's channel law; "
     "lost below a power-gain threshold), the receiver knowing the gains or naive (a lost packet "
     "read as silence). Against the outage: (a) position RMSE, (b) the naive receivers' paired "
     "excess RMSE, (c) packets sent, (d) mean squared error / mean tr P; (e) RMSE at equal energy.",
-    chapter=CHAPTER,
+    chapter=problem.CHAPTER,
     label="sec-synthesis-fading",
-    parameters={**PROBLEM, "l": FADING_L, "outages": list(OUTAGES), "channel":
+    parameters={**problem.PROBLEM, "l": FADING_L, "outages": list(OUTAGES), "channel":
                 "Rayleigh, mean power gain 1, independent per sensor and step",
-                "trials": TRIALS, "particles": PARTICLES,
+                "trials": problem.TRIALS, "particles": problem.PARTICLES,
                 "energy_iterations": ENERGY_ITERATIONS},
     functions=(compute_fading, plot_fading, checks_fading),
     settable=SETTABLE_FADING,
