@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-from fusioncenter import censoring, event, plotting, synthesis
+from fusioncenter import censoring, comparison, event, plotting
 from fusioncenter.figures.common import (
     checks_doc,
     compute_doc,
@@ -117,7 +117,7 @@ def calibrate(rates, profile: str, seed: int, n_trials: int | None = None) -> np
                                                  seed=seed + 1).delta[0]) for rho in rates])
 
 
-def _stats(s: synthesis.Summary) -> dict:
+def _stats(s: comparison.Summary) -> dict:
     rate, rate_se = s.rate()
     arr, arr_se = s.rate("arrived")
     pos, pos_se = s.tavg_rmse("position")
@@ -157,20 +157,20 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
     n, n_p = v["trials"], v["particles"]
     N = sc.N
     pf = {}
-    for scheme in synthesis.PF_SCHEMES:
-        pf[scheme] = [synthesis.summary_from_censoring(
+    for scheme in comparison.PF_SCHEMES:
+        pf[scheme] = [comparison.summary_from_censoring(
             censoring.run(sc, scheme, l=l, n_trials=n, n_particles=n_p, seed=seed))
             for l in FRONTIER_L]
-    allsend_pf = synthesis.summary_from_censoring(
+    allsend_pf = comparison.summary_from_censoring(
         censoring.run(sc, "all-send", l=N, n_trials=n, n_particles=n_p, seed=seed))
     # per-sensor targets: the grid, then the rates the particle-filter schemes actually reached
-    matched = {s: np.array([x.rate()[0] / N for x in pf[s]]) for s in synthesis.PF_SCHEMES}
+    matched = {s: np.array([x.rate()[0] / N for x in pf[s]]) for s in comparison.PF_SCHEMES}
     targets = np.concatenate([FRONTIER_GRID, matched["cfwmd"], matched["cfomd"]])
     deltas = calibrate(targets, profile, seed, v["calibration_trials"])
-    runs = [synthesis.KFRun("all-send")]
-    runs += [synthesis.KFRun("stochastic", delta=float(d)) for d in deltas]
-    runs += [synthesis.KFRun("random", p=float(p)) for p in targets]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+    runs = [comparison.KFRun("all-send")]
+    runs += [comparison.KFRun("stochastic", delta=float(d)) for d in deltas]
+    runs += [comparison.KFRun("random", p=float(p)) for p in targets]
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     allsend = res[0]
     G, L = len(FRONTIER_GRID), len(FRONTIER_L)
     trig, rand = res[1:1 + len(targets)], res[1 + len(targets):]
@@ -178,13 +178,13 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
     out: dict = {"l": np.array(FRONTIER_L), "grid_target": np.array(FRONTIER_GRID),
                  "delta": deltas, "target": targets, "N": N, "n_trials": n, "n_particles": n_p,
                  "seed": seed, "calibration_tol": 1e-3}
-    for scheme in synthesis.PF_SCHEMES:
+    for scheme in comparison.PF_SCHEMES:
         _stack(pf[scheme], scheme, out)
     _stack([allsend_pf], "allsend_pf", out)
     _stack([allsend], "allsend", out)
     _stack(trig[sl["grid"]], "trigger_grid", out)
     _stack(rand[sl["grid"]], "random_grid", out)
-    for scheme in synthesis.PF_SCHEMES:
+    for scheme in comparison.PF_SCHEMES:
         t_m, r_m = trig[sl[scheme]], rand[sl[scheme]]
         _stack(t_m, f"trigger_at_{scheme}", out)
         _stack(r_m, f"random_at_{scheme}", out)
@@ -254,7 +254,7 @@ def checks_frontier(data: dict) -> list[Claim]:
     # calibration tolerance (per sensor 1e-3, i.e. 2e-3 transmissions per step) in s.e. units
     tol = data["N"] * data["calibration_tol"]
     zr = []
-    for s in synthesis.PF_SCHEMES:
+    for s in comparison.PF_SCHEMES:
         for who in ("trigger", "random"):
             d, se = data[f"rate_{who}_minus_{s}"], data[f"rate_{who}_minus_{s}_se"]
             zr.append(np.maximum(np.abs(d) - (tol if who == "trigger" else 0.0), 0.0) / se)
@@ -338,10 +338,10 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
     n = settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
     particles = np.array(by_profile(profile, **COST_PARTICLES))
     steps = n * sc.T
-    kf = synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n, seed=seed)[0]
+    kf = comparison.run_kf(sc, [comparison.KFRun("all-send")], n_trials=n, seed=seed)[0]
     n_kf = 16 * n  # the KF's per-step overhead is amortized over many trials, as in the book
     t0 = time.perf_counter()
-    synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n_kf, seed=seed)
+    comparison.run_kf(sc, [comparison.KFRun("all-send")], n_trials=n_kf, seed=seed)
     kf_time = (time.perf_counter() - t0) / (n_kf * sc.T)
     pf_time = {"all-send": [], "cfwmd": []}
     for scheme in pf_time:  # warm-up (imports, caches) so that the first timing is not inflated
@@ -353,19 +353,19 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
             res = censoring.run(sc, scheme, l=1.0, n_trials=n, n_particles=int(n_p), seed=seed)
             pf_time[scheme].append((time.perf_counter() - t0) / steps)
             if scheme == "all-send":
-                d, se = synthesis.summary_from_censoring(res).paired_difference(kf)
+                d, se = comparison.summary_from_censoring(res).paired_difference(kf)
                 excess.append(d)
                 excess_se.append(se)
     fine = np.unique(np.geomspace(10, 5000, 40).astype(int))
-    kf_f = synthesis.kf_flops(2, sc.N)
+    kf_f = comparison.kf_flops(2, sc.N)
     return {
         "particles": particles, "particles_fine": fine,
         "kf_flops": kf_f["flops"], "kf_special": kf_f["special"],
-        **{f"pf_flops_{s}": np.array([synthesis.pf_flops(2, sc.N, int(p), s)["flops"]
+        **{f"pf_flops_{s}": np.array([comparison.pf_flops(2, sc.N, int(p), s)["flops"]
                                       for p in fine]) for s in ("all-send", "cfomd", "cfwmd")},
-        "pf_special_cfwmd": np.array([synthesis.pf_flops(2, sc.N, int(p), "cfwmd")["special"]
+        "pf_special_cfwmd": np.array([comparison.pf_flops(2, sc.N, int(p), "cfwmd")["special"]
                                       for p in fine]),
-        "pf_flops_at": np.array([synthesis.pf_flops(2, sc.N, int(p), "cfwmd")["flops"]
+        "pf_flops_at": np.array([comparison.pf_flops(2, sc.N, int(p), "cfwmd")["flops"]
                                  for p in particles]),
         "kf_time": kf_time, "pf_time_allsend": np.array(pf_time["all-send"]),
         "pf_time_cfwmd": np.array(pf_time["cfwmd"]),
@@ -466,7 +466,7 @@ register_figure(
 
 
 # --------------------------------------------------------------------------- synthesis-fading
-@document(returns=(("allsend, random, trigger : list of fusioncenter.synthesis.Summary",
+@document(returns=(("allsend, random, trigger : list of fusioncenter.comparison.Summary",
                     "One run per outage of ``eps_full``."), ("design, measured : numpy.ndarray",
                     "The trigger's per-sensor rate (the outages' design, then measured).")),
           raises=(), sc=("fusioncenter.censoring.LinearScenario", "The problem."),
@@ -480,15 +480,15 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     rho = np.full(len(eps_full), p)
     for _ in range(ENERGY_ITERATIONS):
         used = rho
-        runs = [synthesis.KFRun("stochastic", delta=delta,
-                                outage=float(synthesis.energy_matched_outage(e, r)))
+        runs = [comparison.KFRun("stochastic", delta=delta,
+                                 outage=float(comparison.energy_matched_outage(e, r)))
                 for e, r in zip(eps_full, used, strict=True)]
-        trig = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+        trig = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
         rho = np.array([t.rate()[0] / N for t in trig])
-    runs = [synthesis.KFRun("all-send", outage=float(e)) for e in eps_full]
-    runs += [synthesis.KFRun("random", p=p, outage=float(synthesis.energy_matched_outage(e, p)))
+    runs = [comparison.KFRun("all-send", outage=float(e)) for e in eps_full]
+    runs += [comparison.KFRun("random", p=p, outage=float(comparison.energy_matched_outage(e, p)))
              for e in eps_full]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     k = len(eps_full)
     return res[:k], res[k:], trig, used, rho
 
@@ -507,7 +507,7 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     n, n_p = v["trials"], v["particles"]
     N = sc.N
     eps = np.array(OUTAGES)
-    pf = functools.partial(synthesis.run_pf, sc, l=FADING_L, n_trials=n, n_particles=n_p,
+    pf = functools.partial(comparison.run_pf, sc, l=FADING_L, n_trials=n, n_particles=n_p,
                            seed=seed)
     cfomd = [pf("cfomd", outage=float(e)) for e in eps]
     cfwmd_csi = [pf("cfwmd", outage=float(e), receiver="csi") for e in eps]
@@ -518,16 +518,16 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     delta = float(calibrate([p], profile, seed, v["calibration_trials"])[0])
     runs = []
     for e in eps:
-        runs += [synthesis.KFRun("all-send", outage=float(e)),
-                 synthesis.KFRun("random", p=p, outage=float(e)),
-                 synthesis.KFRun("stochastic", delta=delta, outage=float(e), receiver="csi"),
-                 synthesis.KFRun("stochastic", delta=delta, outage=float(e), receiver="naive")]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+        runs += [comparison.KFRun("all-send", outage=float(e)),
+                 comparison.KFRun("random", p=p, outage=float(e)),
+                 comparison.KFRun("stochastic", delta=delta, outage=float(e), receiver="csi"),
+                 comparison.KFRun("stochastic", delta=delta, outage=float(e), receiver="naive")]
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     kf = {name: res[j::4] for j, name in enumerate(("allsend", "random", "trigger_csi",
                                                     "trigger_naive"))}
     out: dict = {"outage": eps, "p": p, "delta": delta, "N": N, "n_trials": n,
                  "n_particles": n_p, "seed": seed, "l": FADING_L,
-                 "gain_threshold": np.array([synthesis.outage_threshold(float(e)) for e in eps])}
+                 "gain_threshold": np.array([comparison.outage_threshold(float(e)) for e in eps])}
     groups = {**kf, "cfomd": cfomd, "cfwmd_csi": cfwmd_csi, "cfwmd_naive": cfwmd_naive}
     for name, lst in groups.items():
         _stack(lst, name, out)
@@ -548,8 +548,8 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     out["energy_outage_full"] = eps_full
     out["energy_trigger_rho_design"] = used  # per-packet power = budget / this rate
     out["energy_trigger_rho"] = rho  # the rate it then measured
-    out["energy_trigger_outage"] = synthesis.energy_matched_outage(eps_full, used)
-    out["energy_random_outage"] = synthesis.energy_matched_outage(eps_full, p)
+    out["energy_trigger_outage"] = comparison.energy_matched_outage(eps_full, used)
+    out["energy_random_outage"] = comparison.energy_matched_outage(eps_full, p)
     _stack(e_all, "energy_allsend", out)
     _stack(e_rand, "energy_random", out)
     _stack(e_trig, "energy_trigger", out)
