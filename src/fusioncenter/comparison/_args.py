@@ -50,6 +50,13 @@ n_particles : int
     Particles per trial, ``>= 1``.
 seed : int
     Non-negative seed; with ``n_trials`` and ``block_size`` it fixes the trials.
+component : {"position", "velocity", "state"}, default "position"
+    The error of the position, of the velocity, or of the whole state (their sum).
+column : {"sent", "arrived"}, default "sent"
+    Count the sensors that sent, or those whose packet arrived.
+other : Summary
+    A summary of another scheme on the same trials
+    (:meth:`~fusioncenter.montecarlo.PerTrial.same_trials`).
 block_size, executor, chunk_size
     As in :func:`fusioncenter.montecarlo.simulate`.
 """, raises="""

@@ -48,72 +48,30 @@ class Summary(montecarlo.PerTrial):
             infl = np.where(rm > 0, sq / (2 * rm), 0.0).mean(axis=1)
         return float(rm.mean()), infl
 
+    @doc(returns=("value, stderr : float",
+                  "The time-averaged RMSE and its standard error (NaN for a single trial)."))
     def tavg_rmse(self, component: str = "position") -> tuple[float, float]:
         """``mean_t sqrt(mean_trials e_t^2)`` and its standard error (delta method over trials,
-        as :meth:`fusioncenter.censoring.CensoringResult.time_averaged_rmse`).
-
-        Parameters
-        ----------
-        component : {"position", "velocity", "state"}, default "position"
-            The error of the position, of the velocity, or of the whole state (their sum).
-
-        Returns
-        -------
-        value, stderr : float
-            The time-averaged RMSE and its standard error (NaN for a single trial).
-
-        Raises
-        ------
-        ValueError
-            If ``component`` is none of the three.
-        """
+        as :meth:`fusioncenter.censoring.CensoringResult.time_averaged_rmse`)."""
         value, infl = self._influence(component)
         return value, _se(infl)
 
+    @doc(returns=("rmse, stderr : numpy.ndarray",
+                  "``sqrt(mean_trials e_t^2)`` per step ``(T,)``, and its standard error by the "
+                  "delta method (0 where the RMSE is 0)."))
     def rmse_k(self, component: str = "position") -> tuple[np.ndarray, np.ndarray]:
-        """RMSE per step and its standard error, both ``(T,)``.
-
-        Parameters
-        ----------
-        component : {"position", "velocity", "state"}, default "position"
-            The error of the position, of the velocity, or of the whole state (their sum).
-
-        Returns
-        -------
-        rmse, stderr : numpy.ndarray
-            ``sqrt(mean_trials e_t^2)`` per step ``(T,)``, and its standard error by the delta
-            method (0 where the RMSE is 0).
-
-        Raises
-        ------
-        ValueError
-            If ``component`` is none of the three.
-        """
+        """RMSE per step and its standard error, both ``(T,)``."""
         sq = self._sq(component)
         rm = np.sqrt(sq.mean(axis=0))
         se = sq.std(axis=0, ddof=1) / math.sqrt(sq.shape[0])
         with np.errstate(divide="ignore", invalid="ignore"):
             return rm, np.where(rm > 0, se / (2 * rm), 0.0)
 
+    @doc(returns=("value, stderr : float",
+                  "The mean over trials and steps, and its standard error across trials."))
     def rate(self, column: str = "sent") -> tuple[float, float]:
         """Average number of sensors per step that sent (or whose packet ``"arrived"``), with
-        its standard error across trials.
-
-        Parameters
-        ----------
-        column : {"sent", "arrived"}, default "sent"
-            Count the sensors that sent, or those whose packet arrived.
-
-        Returns
-        -------
-        value, stderr : float
-            The mean over trials and steps, and its standard error across trials.
-
-        Raises
-        ------
-        ValueError
-            If ``column`` is neither.
-        """
+        its standard error across trials."""
         j = {"sent": 3, "arrived": 4}.get(column)
         if j is None:
             raise ValueError(f"column must be 'sent' or 'arrived', got {column!r}")
@@ -133,32 +91,15 @@ class Summary(montecarlo.PerTrial):
         per = (self._sq("state") - self.samples[..., 2]).mean(axis=1)
         return float(per.mean()), _se(per)
 
+    @doc(returns=("difference, stderr : float",
+                  "This summary's value minus ``other``'s, and the standard error of the "
+                  "difference over the paired trials."),
+         rate=("bool, default False",
+               "Compare the number of sensors that sent per step instead of the RMSE."))
     def paired_difference(self, other: Summary, component: str = "position",
                           rate: bool = False) -> tuple[float, float]:
         """This summary's time-averaged RMSE (or, with ``rate=True``, transmissions per step)
-        minus ``other``'s, with the paired standard error (trials differenced one by one).
-
-        Parameters
-        ----------
-        other : Summary
-            A summary of another scheme on the same trials (:meth:`same_trials`).
-        component : {"position", "velocity", "state"}, default "position"
-            As in :meth:`tavg_rmse`.
-        rate : bool, default False
-            Compare the number of sensors that sent per step instead of the RMSE.
-
-        Returns
-        -------
-        difference, stderr : float
-            This summary's value minus ``other``'s, and the standard error of the difference
-            over the paired trials.
-
-        Raises
-        ------
-        ValueError
-            If ``other`` is not a :class:`Summary`, the two are not paired, or ``component``
-            is none of the three.
-        """
+        minus ``other``'s, with the paired standard error (trials differenced one by one)."""
         if not isinstance(other, Summary):
             raise ValueError("other must be a Summary")
         if not self.same_trials(other):
