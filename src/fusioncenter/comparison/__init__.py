@@ -42,7 +42,7 @@ The package, one idea per module:
 - :mod:`~fusioncenter.comparison.particle_family`  zheng2014's particle filters over the link
   (:data:`PF_SCHEMES`, :func:`run_pf`);
 - :mod:`~fusioncenter.comparison.paired`           the paired runs: per-trial results of a
-  scheme and the paired differences of two (:data:`COLUMNS`, :class:`Summary`,
+  scheme and the paired differences of two (:class:`Summary`,
   :func:`summary_from_censoring`);
 - :mod:`~fusioncenter.comparison.cost`             the operation counts of a step
   (:func:`kf_flops`, :func:`pf_flops`).
@@ -69,14 +69,13 @@ from fusioncenter.comparison.link import (
     energy_matched_outage,
     outage_threshold,
 )
-from fusioncenter.comparison.paired import COLUMNS, Summary, summary_from_censoring
+from fusioncenter.comparison.paired import Summary, summary_from_censoring
 from fusioncenter.comparison.particle_family import PF_SCHEMES, run_pf
 
 __all__ = [
     "KF_SCHEMES",
     "PF_SCHEMES",
     "RECEIVERS",
-    "COLUMNS",
     "scenario_model",
     "outage_threshold",
     "energy_matched_outage",
