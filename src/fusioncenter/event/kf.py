@@ -1,7 +1,7 @@
 """The event-triggered Kalman filter of :mod:`fusioncenter.event`: the fusion centre's exact
 filter under mo2015's stochastic trigger (and the baselines of ``SCHEMES``) and its Monte Carlo
 summary. The choice of the trigger parameter for a target send rate is in
-:mod:`fusioncenter.event.calibration`."""
+:mod:`fusioncenter.event.rate`."""
 
 from __future__ import annotations
 
