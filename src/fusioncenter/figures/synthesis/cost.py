@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from fusioncenter import censoring, plotting, synthesis
+from fusioncenter import censoring, comparison, plotting
 from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.synthesis.problem import CHAPTER, PROBLEM, Z_TOL, scenario
@@ -36,10 +36,10 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
     n = common.settings("synthesis-cost", SETTABLE_COST, profile, over)["trials"]
     particles = np.array(by_profile(profile, **COST_PARTICLES))
     steps = n * sc.T
-    kf = synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n, seed=seed)[0]
+    kf = comparison.run_kf(sc, [comparison.KFRun("all-send")], n_trials=n, seed=seed)[0]
     n_kf = 16 * n  # the KF's per-step overhead is amortized over many trials, as in the book
     t0 = time.perf_counter()
-    synthesis.run_kf(sc, [synthesis.KFRun("all-send")], n_trials=n_kf, seed=seed)
+    comparison.run_kf(sc, [comparison.KFRun("all-send")], n_trials=n_kf, seed=seed)
     kf_time = (time.perf_counter() - t0) / (n_kf * sc.T)
     pf_time = {"all-send": [], "cfwmd": []}
     for scheme in pf_time:  # warm-up (imports, caches) so that the first timing is not inflated
@@ -51,19 +51,19 @@ def compute_cost(profile: str, seed: int, **over) -> dict:
             res = censoring.run(sc, scheme, l=1.0, n_trials=n, n_particles=int(n_p), seed=seed)
             pf_time[scheme].append((time.perf_counter() - t0) / steps)
             if scheme == "all-send":
-                d, se = synthesis.summary_from_censoring(res).paired_difference(kf)
+                d, se = comparison.summary_from_censoring(res).paired_difference(kf)
                 excess.append(d)
                 excess_se.append(se)
     fine = np.unique(np.geomspace(10, 5000, 40).astype(int))
-    kf_f = synthesis.kf_flops(2, sc.N)
+    kf_f = comparison.kf_flops(2, sc.N)
     return {
         "particles": particles, "particles_fine": fine,
         "kf_flops": kf_f["flops"], "kf_special": kf_f["special"],
-        **{f"pf_flops_{s}": np.array([synthesis.pf_flops(2, sc.N, int(p), s)["flops"]
+        **{f"pf_flops_{s}": np.array([comparison.pf_flops(2, sc.N, int(p), s)["flops"]
                                       for p in fine]) for s in ("all-send", "cfomd", "cfwmd")},
-        "pf_special_cfwmd": np.array([synthesis.pf_flops(2, sc.N, int(p), "cfwmd")["special"]
+        "pf_special_cfwmd": np.array([comparison.pf_flops(2, sc.N, int(p), "cfwmd")["special"]
                                       for p in fine]),
-        "pf_flops_at": np.array([synthesis.pf_flops(2, sc.N, int(p), "cfwmd")["flops"]
+        "pf_flops_at": np.array([comparison.pf_flops(2, sc.N, int(p), "cfwmd")["flops"]
                                  for p in particles]),
         "kf_time": kf_time, "pf_time_allsend": np.array(pf_time["all-send"]),
         "pf_time_cfwmd": np.array(pf_time["cfwmd"]),

@@ -13,7 +13,7 @@ import functools
 
 import numpy as np
 
-from fusioncenter import plotting, synthesis
+from fusioncenter import comparison, plotting
 from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.synthesis import problem
@@ -28,7 +28,7 @@ ENERGY_ITERATIONS = 3
 
 
 @common.document(
-    returns=(("allsend, random, trigger : list of fusioncenter.synthesis.Summary",
+    returns=(("allsend, random, trigger : list of fusioncenter.comparison.Summary",
               "One run per outage of ``eps_full``."),
              ("design, measured : numpy.ndarray",
               "The trigger's per-sensor rate (the outages' design, then measured).")),
@@ -43,15 +43,15 @@ def energy_runs(sc, eps_full, p: float, delta: float, n: int, seed: int):
     rho = np.full(len(eps_full), p)
     for _ in range(ENERGY_ITERATIONS):
         used = rho
-        runs = [synthesis.KFRun("stochastic", delta=delta,
-                                outage=float(synthesis.energy_matched_outage(e, r)))
+        runs = [comparison.KFRun("stochastic", delta=delta,
+                                outage=float(comparison.energy_matched_outage(e, r)))
                 for e, r in zip(eps_full, used, strict=True)]
-        trig = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+        trig = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
         rho = np.array([t.rate()[0] / N for t in trig])
-    runs = [synthesis.KFRun("all-send", outage=float(e)) for e in eps_full]
-    runs += [synthesis.KFRun("random", p=p, outage=float(synthesis.energy_matched_outage(e, p)))
+    runs = [comparison.KFRun("all-send", outage=float(e)) for e in eps_full]
+    runs += [comparison.KFRun("random", p=p, outage=float(comparison.energy_matched_outage(e, p)))
              for e in eps_full]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     k = len(eps_full)
     return res[:k], res[k:], trig, used, rho
 
@@ -72,7 +72,7 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     n, n_p = v["trials"], v["particles"]
     N = sc.N
     eps = np.array(OUTAGES)
-    pf = functools.partial(synthesis.run_pf, sc, l=FADING_L, n_trials=n, n_particles=n_p,
+    pf = functools.partial(comparison.run_pf, sc, l=FADING_L, n_trials=n, n_particles=n_p,
                            seed=seed)
     cfomd = [pf("cfomd", outage=float(e)) for e in eps]
     cfwmd_csi = [pf("cfwmd", outage=float(e), receiver="csi") for e in eps]
@@ -83,16 +83,16 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     delta = float(problem.calibrate([p], profile, seed, v["calibration_trials"])[0])
     runs = []
     for e in eps:
-        runs += [synthesis.KFRun("all-send", outage=float(e)),
-                 synthesis.KFRun("random", p=p, outage=float(e)),
-                 synthesis.KFRun("stochastic", delta=delta, outage=float(e), receiver="csi"),
-                 synthesis.KFRun("stochastic", delta=delta, outage=float(e), receiver="naive")]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+        runs += [comparison.KFRun("all-send", outage=float(e)),
+                 comparison.KFRun("random", p=p, outage=float(e)),
+                 comparison.KFRun("stochastic", delta=delta, outage=float(e), receiver="csi"),
+                 comparison.KFRun("stochastic", delta=delta, outage=float(e), receiver="naive")]
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     kf = {name: res[j::4] for j, name in enumerate(("allsend", "random", "trigger_csi",
                                                     "trigger_naive"))}
     out: dict = {"outage": eps, "p": p, "delta": delta, "N": N, "n_trials": n,
                  "n_particles": n_p, "seed": seed, "l": FADING_L,
-                 "gain_threshold": np.array([synthesis.outage_threshold(float(e)) for e in eps])}
+                 "gain_threshold": np.array([comparison.outage_threshold(float(e)) for e in eps])}
     groups = {**kf, "cfomd": cfomd, "cfwmd_csi": cfwmd_csi, "cfwmd_naive": cfwmd_naive}
     for name, lst in groups.items():
         problem.stack(lst, name, out)
@@ -113,8 +113,8 @@ def compute_fading(profile: str, seed: int, **over) -> dict:
     out["energy_outage_full"] = eps_full
     out["energy_trigger_rho_design"] = used  # per-packet power = budget / this rate
     out["energy_trigger_rho"] = rho  # the rate it then measured
-    out["energy_trigger_outage"] = synthesis.energy_matched_outage(eps_full, used)
-    out["energy_random_outage"] = synthesis.energy_matched_outage(eps_full, p)
+    out["energy_trigger_outage"] = comparison.energy_matched_outage(eps_full, used)
+    out["energy_random_outage"] = comparison.energy_matched_outage(eps_full, p)
     problem.stack(e_all, "energy_allsend", out)
     problem.stack(e_rand, "energy_random", out)
     problem.stack(e_trig, "energy_trigger", out)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fusioncenter import censoring, plotting, synthesis
+from fusioncenter import censoring, comparison, plotting
 from fusioncenter.figures.common import (
     checks_doc,
     compute_doc,
@@ -54,20 +54,20 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
     n, n_p = v["trials"], v["particles"]
     N = sc.N
     pf = {}
-    for scheme in synthesis.PF_SCHEMES:
-        pf[scheme] = [synthesis.summary_from_censoring(
+    for scheme in comparison.PF_SCHEMES:
+        pf[scheme] = [comparison.summary_from_censoring(
             censoring.run(sc, scheme, l=l, n_trials=n, n_particles=n_p, seed=seed))
             for l in FRONTIER_L]
-    allsend_pf = synthesis.summary_from_censoring(
+    allsend_pf = comparison.summary_from_censoring(
         censoring.run(sc, "all-send", l=N, n_trials=n, n_particles=n_p, seed=seed))
     # per-sensor targets: the grid, then the rates the particle-filter schemes actually reached
-    matched = {s: np.array([x.rate()[0] / N for x in pf[s]]) for s in synthesis.PF_SCHEMES}
+    matched = {s: np.array([x.rate()[0] / N for x in pf[s]]) for s in comparison.PF_SCHEMES}
     targets = np.concatenate([FRONTIER_GRID, matched["cfwmd"], matched["cfomd"]])
     deltas = calibrate(targets, profile, seed, v["calibration_trials"])
-    runs = [synthesis.KFRun("all-send")]
-    runs += [synthesis.KFRun("stochastic", delta=float(d)) for d in deltas]
-    runs += [synthesis.KFRun("random", p=float(p)) for p in targets]
-    res = synthesis.run_kf(sc, runs, n_trials=n, seed=seed)
+    runs = [comparison.KFRun("all-send")]
+    runs += [comparison.KFRun("stochastic", delta=float(d)) for d in deltas]
+    runs += [comparison.KFRun("random", p=float(p)) for p in targets]
+    res = comparison.run_kf(sc, runs, n_trials=n, seed=seed)
     allsend = res[0]
     G, L = len(FRONTIER_GRID), len(FRONTIER_L)
     trig, rand = res[1:1 + len(targets)], res[1 + len(targets):]
@@ -75,13 +75,13 @@ def compute_frontier(profile: str, seed: int, **over) -> dict:
     out: dict = {"l": np.array(FRONTIER_L), "grid_target": np.array(FRONTIER_GRID),
                  "delta": deltas, "target": targets, "N": N, "n_trials": n, "n_particles": n_p,
                  "seed": seed, "calibration_tol": 1e-3}
-    for scheme in synthesis.PF_SCHEMES:
+    for scheme in comparison.PF_SCHEMES:
         stack(pf[scheme], scheme, out)
     stack([allsend_pf], "allsend_pf", out)
     stack([allsend], "allsend", out)
     stack(trig[sl["grid"]], "trigger_grid", out)
     stack(rand[sl["grid"]], "random_grid", out)
-    for scheme in synthesis.PF_SCHEMES:
+    for scheme in comparison.PF_SCHEMES:
         t_m, r_m = trig[sl[scheme]], rand[sl[scheme]]
         stack(t_m, f"trigger_at_{scheme}", out)
         stack(r_m, f"random_at_{scheme}", out)
@@ -151,7 +151,7 @@ def checks_frontier(data: dict) -> list[Claim]:
     # calibration tolerance (per sensor 1e-3, i.e. 2e-3 transmissions per step) in s.e. units
     tol = data["N"] * data["calibration_tol"]
     zr = []
-    for s in synthesis.PF_SCHEMES:
+    for s in comparison.PF_SCHEMES:
         for who in ("trigger", "random"):
             d, se = data[f"rate_{who}_minus_{s}"], data[f"rate_{who}_minus_{s}_se"]
             zr.append(np.maximum(np.abs(d) - (tol if who == "trigger" else 0.0), 0.0) / se)

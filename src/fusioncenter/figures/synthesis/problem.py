@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fusioncenter import censoring, event, synthesis
+from fusioncenter import censoring, comparison, event
 from fusioncenter.figures.common import document, trials_parameter
 from fusioncenter.models import tracking_model
 from fusioncenter.profile import by_profile
@@ -81,12 +81,12 @@ def calibrate(rates, profile: str, seed: int, n_trials: int | None = None) -> np
 
 
 
-def summary_stats(s: synthesis.Summary) -> dict:
+def summary_stats(s: comparison.Summary) -> dict:
     """The statistics an entry stores for one run.
 
     Parameters
     ----------
-    s : fusioncenter.synthesis.Summary
+    s : fusioncenter.comparison.Summary
         The run's summary.
 
     Returns
@@ -112,7 +112,7 @@ def stack(summaries, prefix: str, out: dict) -> None:
 
     Parameters
     ----------
-    summaries : list of fusioncenter.synthesis.Summary
+    summaries : list of fusioncenter.comparison.Summary
         One run per point of the group.
     prefix : str
         The group's name ``G`` (the keys are ``G_rate``, ``G_pos``, ...).
@@ -129,7 +129,7 @@ def paired(a, b, out: dict, name: str, rate: bool = False) -> None:
 
     Parameters
     ----------
-    a, b : list of fusioncenter.synthesis.Summary
+    a, b : list of fusioncenter.comparison.Summary
         Runs on the same trials, element by element.
     out : dict
         The entry's data, filled in place.
