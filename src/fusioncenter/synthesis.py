@@ -49,9 +49,9 @@ import numpy as np
 
 from fusioncenter import _kalman_core, censoring, montecarlo, particle
 from fusioncenter import _validate as _v
+from fusioncenter._compiled import censored_normal
 from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
-from fusioncenter.censoring import _probability_core
 from fusioncenter.fading import Rayleigh
 from fusioncenter.kalman import LinearGaussianModel
 
@@ -494,7 +494,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * _probability_core.log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * censored_normal.log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):
