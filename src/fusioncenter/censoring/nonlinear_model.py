@@ -155,6 +155,7 @@ class NonlinearScenario(scenarios.Scenario):
     # scenarios.Scenario)
     @property
     def N(self) -> int:
+        """Number of sensors."""
         return self._cache["N"]
 
     @property
@@ -164,6 +165,7 @@ class NonlinearScenario(scenarios.Scenario):
 
     @property
     def rvec(self) -> np.ndarray:
+        """Measurement noise variances, one per sensor ``(N,)``."""
         return np.broadcast_to(np.asarray(self.r, dtype=float), (self.N,)).copy()
 
     position_index = (0, 2)
@@ -218,9 +220,25 @@ class NonlinearScenario(scenarios.Scenario):
 
     # --- simulation
     def sample(self, rng: np.random.Generator, n: int):
-        """Truth and measurements of ``n`` trials: ``x (n, T+1, 4)`` (``x[:, 0] = x_0``), ``z (n,
-        T, N)`` (``z[:, k-1]`` measured at step ``k``). Draws ``x_0`` (if ``initial_truth`` is
-        ``"random"``), then ``T`` transitions, then all measurement noises."""
+        """Truth and measurements of ``n`` trials.
+
+        Draws ``x_0`` (if ``initial_truth`` is ``"random"``), then ``T`` transitions, then all
+        measurement noises.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The source of the draws.
+        n : int
+            Number of trials.
+
+        Returns
+        -------
+        x : numpy.ndarray
+            True states ``(n, T+1, 4)``, ``x[:, 0] = x_0``.
+        z : numpy.ndarray
+            Measurements ``(n, T, N)``, ``z[:, k-1]`` measured at step ``k``.
+        """
         x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
         z = amplitude_ekf.amplitude(self, x[:, 1:, [0, 2]]) + noise
