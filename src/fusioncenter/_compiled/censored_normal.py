@@ -35,19 +35,8 @@ _LOG_2PI = math.log(2.0 * math.pi)
 
 
 def log_gauss(z, mean, r):
-    """:func:`fusioncenter.censoring.likelihood.log_gauss` without its checks (the filters'
-    received-measurement term, per particle).
-
-    Parameters
-    ----------
-    z, mean, r : array_like
-        Value, mean and variance (broadcast; the caller has checked them).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``log N(z; mean, r)``.
-    """
+    """:func:`fusioncenter.censoring.likelihood.log_gauss` without its checks: ``log N(z; mean,
+    r)``, the filters' received-measurement term, per particle."""
     return -0.5 * (_LOG_2PI + np.log(r)) - 0.5 * (z - mean) ** 2 / r
 
 
