@@ -4,7 +4,8 @@ Nothing here checks its inputs: the public modules that call a kernel validate f
 kernel has a NumPy/SciPy reference path or a test that holds it bitwise (or to a stated
 tolerance) against the steps it replaces.
 
-The censoring filters' kernels:
+The censoring filters' kernels (three of them NumPy/SciPy rather than numba: the unchecked
+cores the filters call in their inner loops, beside the checked public functions):
 
 - :mod:`~fusioncenter._compiled.censoring_decisions`: the sensors' decisions with feedback and
   the linear fusion centre's per-group counts and received means (numba);
