@@ -186,7 +186,7 @@ def test_the_checks_see_violations(tmp_path):
                     "registry._order\n"
                     "censoring.probability._log_prob_inside\n"
                     "fusioncenter.kalman._scale\n"
-                    "censoring._probability_core.log_prob_inside\n"
+                    "fusioncenter._compiled.censored_normal.log_prob_inside\n"
                     "common.x._y\n")
     edges, private = _imports("fusioncenter.probe", path)
     assert edges == {"fusioncenter.figures.registry", "fusioncenter.figures.zheng2014.common",

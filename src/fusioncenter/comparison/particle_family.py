@@ -11,7 +11,7 @@ import numpy as np
 
 from fusioncenter import _validate as _v
 from fusioncenter import censoring, montecarlo, particle
-from fusioncenter.censoring import _probability_core
+from fusioncenter._compiled import censored_normal
 from fusioncenter.comparison._args import check_outage, check_receiver, check_scenario, doc
 from fusioncenter.comparison.link import draw, outage_threshold
 from fusioncenter.comparison.paired import COLUMNS, Summary
@@ -85,7 +85,7 @@ class _LossyCensoring:
             if rows.any():
                 mu = (y[rows] - (self.pred_mean[rows] @ self.H[i0])[:, None]) / self.sd[i0]
                 h = np.full(mu.shape, math.sqrt(self.eta * s[i0]) / self.sd[i0])
-                out[rows] += n_sil[rows, None] * _probability_core.log_prob_inside(mu, h)
+                out[rows] += n_sil[rows, None] * censored_normal.log_prob_inside(mu, h)
         return out
 
     def observe(self, t, mean, cov):

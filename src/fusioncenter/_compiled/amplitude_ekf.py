@@ -1,13 +1,15 @@
-"""The unchecked kernels of the nonlinear model (zheng2014 Section VII.C): the amplitudes (42)
-from squared distances or positions, their gradient and the EKF covariance recursion, as the
-filters call them on arrays they have already checked (the sensors' EKFs of
+"""The nonlinear model's measurement and its EKF, unchecked (zheng2014 Section VII.C): the
+amplitudes (42) from squared distances or positions, their gradient and the EKF covariance
+recursion, as the filters call them on arrays they have already checked (the sensors' EKFs of
 :func:`fusioncenter.censoring.nonlinear_model.local_ekf`, the fusion centre of
-:mod:`fusioncenter.censoring.nonlinear`). The public, checked versions are
+:mod:`fusioncenter.censoring.nonlinear`), in NumPy (not compiled).
+
+The public, checked versions, where these are documented, are
 :func:`~fusioncenter.censoring.nonlinear_model.amplitude_from_d2`,
 :func:`~fusioncenter.censoring.nonlinear_model.amplitude`,
 :func:`~fusioncenter.censoring.nonlinear_model.jacobian` and
 :func:`~fusioncenter.censoring.nonlinear_model.ekf_covariance_step`; they call these, so a valid
-call gives the same bits either way. ``scenario`` is a
+call gives the same bits either way. ``sc`` and ``scenario`` are a
 :class:`~fusioncenter.censoring.nonlinear_model.NonlinearScenario` (only its fields are used).
 """
 
@@ -19,21 +21,8 @@ __all__ = ["amplitude_from_d2", "amplitude", "jacobian", "ekf_step"]
 
 
 def amplitude_from_d2(sc, d2):
-    """:func:`fusioncenter.censoring.nonlinear_model.amplitude_from_d2`: ``sqrt(power / (1 + alpha
-    d^n))`` from the squared distances, in place on ``d2``.
-
-    Parameters
-    ----------
-    sc : NonlinearScenario
-        The scenario (``power``, ``alpha``, ``exponent``).
-    d2 : numpy.ndarray
-        Squared distances, overwritten.
-
-    Returns
-    -------
-    numpy.ndarray
-        The amplitudes (the array ``d2``).
-    """
+    """:func:`fusioncenter.censoring.nonlinear_model.amplitude_from_d2`: ``sqrt(power / (1 +
+    alpha d^n))`` from the squared distances, in place on ``d2`` (returned)."""
     if sc.exponent != 2.0:
         np.power(d2, sc.exponent / 2, out=d2)
     if sc.alpha != 1.0:
@@ -45,20 +34,7 @@ def amplitude_from_d2(sc, d2):
 
 def amplitude(scenario, pos) -> np.ndarray:
     """:func:`fusioncenter.censoring.nonlinear_model.amplitude` without the NaN check (the
-    filters' own calls).
-
-    Parameters
-    ----------
-    scenario : NonlinearScenario
-        The scenario.
-    pos : array_like
-        Positions ``(..., 2)`` (m).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``h^i(pos)`` ``(..., N)``.
-    """
+    filters' own calls): ``h^i`` at the positions ``pos (..., 2)``, ``(..., N)``."""
     pos = np.asarray(pos, dtype=float)
     if pos.shape[-1:] != (2,):
         raise ValueError(f"pos must end in an (x, y) axis of length 2, got {pos.shape}")
@@ -69,20 +45,7 @@ def amplitude(scenario, pos) -> np.ndarray:
 
 def jacobian(scenario, x) -> np.ndarray:
     """:func:`fusioncenter.censoring.nonlinear_model.jacobian` without the finiteness check (the
-    filters' own calls).
-
-    Parameters
-    ----------
-    scenario : NonlinearScenario
-        The scenario.
-    x : array_like
-        States ``(..., 4)``.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``g^i`` ``(..., N, 4)``.
-    """
+    filters' own calls): ``g^i`` at the states ``x (..., 4)``, ``(..., N, 4)``."""
     x = np.asarray(x, dtype=float)
     if x.shape[-1:] != (4,):
         raise ValueError(f"x must end in a state axis of length 4, got {x.shape}")
@@ -103,24 +66,7 @@ def jacobian(scenario, x) -> np.ndarray:
 
 def ekf_step(P, g, F, Q, r):
     """:func:`fusioncenter.censoring.nonlinear_model.ekf_covariance_step` without checks (the
-    filters' own calls: ``s > 0``).
-
-    Parameters
-    ----------
-    P : numpy.ndarray
-        ``P_{k-1|k-1} (..., d, d)``.
-    g : numpy.ndarray
-        Gradients ``(..., d)``.
-    F, Q : numpy.ndarray
-        Transition and process-noise covariance ``(d, d)``.
-    r : array_like
-        Noise variance(s).
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        ``(P_pred, s, P_upd)``.
-    """
+    filters' own calls, where ``s > 0``): ``(P_pred, s, P_upd)``."""
     Pp = F @ P @ F.T + Q
     Pg = (Pp @ g[..., None])[..., 0]  # (..., d)
     s = np.einsum("...k,...k->...", g, Pg) + r
