@@ -39,6 +39,7 @@ import pytest
 
 from fusioncenter import (
     censoring,
+    comparison,
     event,
     fading,
     kalman,
@@ -47,7 +48,6 @@ from fusioncenter import (
     particle,
     power,
     riccati,
-    synthesis,
 )
 from fusioncenter.censoring import nonlinear_model as nlm
 from fusioncenter.fading import Nakagami, Rayleigh
@@ -725,45 +725,45 @@ sweep("censoring.likelihood.log_gauss", censoring.likelihood.log_gauss,
       dict(z=0.0, mean=0.0, r=1.0), dict(z=["nan"], mean=["inf"], r=["neg", "zero", "nan"]))
 
 # ================================================================================== synthesis
-bad("synthesis.outage_threshold[outage=1]", "outage", synthesis.outage_threshold, 1.0)
-bad("synthesis.outage_threshold[outage=-0.1]", "outage", synthesis.outage_threshold, -0.1)
-bad("synthesis.outage_threshold[outage=nan]", "outage", synthesis.outage_threshold, NAN)
-bad("synthesis.outage_threshold[channel]", "channel", synthesis.outage_threshold, 0.1, "x")
-limit("synthesis.outage_threshold[outage=0]", 0.0, synthesis.outage_threshold, 0.0)
-bad("synthesis.energy_matched_outage[rate=2]", "rate", synthesis.energy_matched_outage, 0.1,
+bad("comparison.outage_threshold[outage=1]", "outage", comparison.outage_threshold, 1.0)
+bad("comparison.outage_threshold[outage=-0.1]", "outage", comparison.outage_threshold, -0.1)
+bad("comparison.outage_threshold[outage=nan]", "outage", comparison.outage_threshold, NAN)
+bad("comparison.outage_threshold[channel]", "channel", comparison.outage_threshold, 0.1, "x")
+limit("comparison.outage_threshold[outage=0]", 0.0, comparison.outage_threshold, 0.0)
+bad("comparison.energy_matched_outage[rate=2]", "rate", comparison.energy_matched_outage, 0.1,
     2.0)
-bad("synthesis.energy_matched_outage[rate=nan]", "rate", synthesis.energy_matched_outage, 0.1,
+bad("comparison.energy_matched_outage[rate=nan]", "rate", comparison.energy_matched_outage, 0.1,
     NAN)
-bad("synthesis.energy_matched_outage[outage_full=1]", "outage_full",
-    synthesis.energy_matched_outage, 1.0, 0.5)
-limit("synthesis.energy_matched_outage[rate=1]", 0.1, synthesis.energy_matched_outage, 0.1, 1.0)
+bad("comparison.energy_matched_outage[outage_full=1]", "outage_full",
+    comparison.energy_matched_outage, 1.0, 0.5)
+limit("comparison.energy_matched_outage[rate=1]", 0.1, comparison.energy_matched_outage, 0.1, 1.0)
 _ssc = censoring.LinearScenario(T=3)
-bad("synthesis.draw[n=-1]", "n", synthesis.draw, np.random.default_rng(0), -1, _ssc)
-bad("synthesis.draw[rng]", "rng", synthesis.draw, 0, 2, _ssc)
-_d = synthesis.draw(np.random.default_rng(0), 2, _ssc)
+bad("comparison.draw[n=-1]", "n", comparison.draw, np.random.default_rng(0), -1, _ssc)
+bad("comparison.draw[rng]", "rng", comparison.draw, 0, 2, _ssc)
+_d = comparison.draw(np.random.default_rng(0), 2, _ssc)
 _lost = np.zeros(_d.z.shape, bool)
 KF = dict(scenario=_ssc, z=_d.z, xi=_d.xi, lost=_lost, scheme="stochastic", delta=1.0)
-sweep("synthesis.kf_filter", synthesis.kf_filter, KF,
+sweep("comparison.kf_filter", comparison.kf_filter, KF,
       dict(z=[("nan", np.full(_d.z.shape, NAN)), ("shape", _d.z[:, :2])],
            xi=[("nan", np.full(_d.xi.shape, NAN)), ("two", _d.xi + 2.0)],
            lost=[("float", _lost + 0.5)], scheme=[("bad", "x")],
            delta=["nan", "neg", "zero"], receiver=[("bad", "x")]))
-bad("synthesis.kf_filter[p=1.5]", "p", synthesis.kf_filter, _ssc, _d.z, _d.xi, _lost, "random",
+bad("comparison.kf_filter[p=1.5]", "p", comparison.kf_filter, _ssc, _d.z, _d.xi, _lost, "random",
     p=1.5)
 # KFRun is validated when run (documented): run_kf names the field
-bad("synthesis.run_kf[KFRun scheme]", "scheme", synthesis.run_kf, _ssc, (synthesis.KFRun("x"),),
+bad("comparison.run_kf[KFRun scheme]", "scheme", comparison.run_kf, _ssc, (comparison.KFRun("x"),),
     n_trials=2, seed=0)
-bad("synthesis.run_kf[KFRun outage=1]", "outage", synthesis.run_kf, _ssc,
-    (synthesis.KFRun("all-send", outage=1.0),), n_trials=2, seed=0)
-bad("synthesis.run_kf[KFRun delta=nan]", "delta", synthesis.run_kf, _ssc,
-    (synthesis.KFRun("stochastic", delta=NAN),), n_trials=2, seed=0)
-bad("synthesis.run_kf[n_trials=0]", "n_trials", synthesis.run_kf, _ssc,
-    (synthesis.KFRun("all-send"),), n_trials=0, seed=0)
-bad("synthesis.run_kf[runs empty]", "runs", synthesis.run_kf, _ssc, (), n_trials=2, seed=0)
-bad("synthesis.kf_flops[n=0]", "n", synthesis.kf_flops, 0, 2)
-bad("synthesis.pf_flops[n_particles=0]", "n_particles", synthesis.pf_flops, 2, 2, 0)
-bad("synthesis.pf_flops[scheme]", "scheme", synthesis.pf_flops, 2, 2, 10, "x")
-bad("synthesis.run_pf[outage=1]", "outage", synthesis.run_pf, _ssc, "cfwmd", l=1.0, n_trials=1,
+bad("comparison.run_kf[KFRun outage=1]", "outage", comparison.run_kf, _ssc,
+    (comparison.KFRun("all-send", outage=1.0),), n_trials=2, seed=0)
+bad("comparison.run_kf[KFRun delta=nan]", "delta", comparison.run_kf, _ssc,
+    (comparison.KFRun("stochastic", delta=NAN),), n_trials=2, seed=0)
+bad("comparison.run_kf[n_trials=0]", "n_trials", comparison.run_kf, _ssc,
+    (comparison.KFRun("all-send"),), n_trials=0, seed=0)
+bad("comparison.run_kf[runs empty]", "runs", comparison.run_kf, _ssc, (), n_trials=2, seed=0)
+bad("comparison.kf_flops[n=0]", "n", comparison.kf_flops, 0, 2)
+bad("comparison.pf_flops[n_particles=0]", "n_particles", comparison.pf_flops, 2, 2, 0)
+bad("comparison.pf_flops[scheme]", "scheme", comparison.pf_flops, 2, 2, 10, "x")
+bad("comparison.run_pf[outage=1]", "outage", comparison.run_pf, _ssc, "cfwmd", l=1.0, n_trials=1,
     n_particles=10, seed=0, outage=1.0)
 
 _LABELS = [c.label for c in CASES]

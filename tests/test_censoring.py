@@ -550,7 +550,7 @@ def test_three_or_more_silent_sensors_give_the_same_bits_on_every_run():
     """Beyond two sensors the all-silent constant is SciPy's randomized quasi-Monte Carlo
     integral: it is seeded, so a run's estimates are the same bits every time (they differed
     by ~1e-13 from run to run before, in the printed likelihood with four sensors)."""
-    from fusioncenter.censoring._probability_core import log_silent_constant
+    from fusioncenter._compiled.bivariate_normal import log_silent_constant
 
     cov = np.eye(3) + 0.3
     a = np.array([1.0, 0.8, 1.2])
@@ -952,7 +952,7 @@ def test_bivariate_rectangle_fast_path_unchanged_and_vectorized():
     u1, u2 = l1 + rng.uniform(0.5, 3, 50), l2 + rng.uniform(0.5, 3, 50)
     rho = rng.uniform(-0.9, 0.9, 50)
     got = cs.bivariate_rectangle(l1, u1, l2, u2, rho)
-    F = cs._probability_core.cdf_owen
+    from fusioncenter._compiled.bivariate_normal import cdf_owen as F
     ref = np.clip(F(u1, u2, rho) - F(l1, u2, rho) - F(u1, l2, rho) + F(l1, l2, rho), 0, 1)
     big = ref >= cs.probability.CAREFUL_BELOW
     assert big.sum() > 40 and np.array_equal(got[big], ref[big])

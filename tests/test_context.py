@@ -101,7 +101,7 @@ def test_heavy_entries_use_the_executor(monkeypatch):
             f.set_result(fn(*args))
             return f
 
-    monkeypatch.setattr(context, "_pool", lambda spec: Counting())
+    monkeypatch.setattr(context.executors, "_pool", lambda spec: Counting())
     figures.get("dey2009-fig1").run_compute("fast", executor="processes:2", paths=2100,
                                             grid_paths=100)
     assert Counting.calls > 0
@@ -234,15 +234,15 @@ def test_auto_starts_a_pool_only_for_a_run_that_repays_it(monkeypatch):
         started.append(spec)
         return Pool()
 
-    monkeypatch.setattr(context, "_pool", fake_pool)
-    monkeypatch.setattr(context, "cores", lambda: 2)
+    monkeypatch.setattr(context.executors, "_pool", fake_pool)
+    monkeypatch.setattr(context.executors, "cores", lambda: 2)
     serial = montecarlo.simulate(_draws, 5000, 7).samples
     with context.activate(context.ExecutionContext("paper", 7, "auto")):
         ex = context.executor()
         assert getattr(ex, "adaptive", False)
         short = montecarlo.simulate(_draws, 5000, 7, executor=ex).samples
         assert started == [] and submitted == []  # milliseconds of work: serial
-        monkeypatch.setattr(context, "AUTO_POOL_SECONDS", 0.0)  # as if the run were long
+        monkeypatch.setattr(context.executors, "AUTO_POOL_SECONDS", 0.0)  # as if the run were long
         long = montecarlo.simulate(_draws, 5000, 7, executor=context.executor()).samples
         assert started == ["processes:2"] and submitted
     assert short.tobytes() == serial.tobytes() == long.tobytes()

@@ -3,7 +3,7 @@
 A chapter teaches first and checks second: prerequisites, a picture of the idea before the
 formulas, Key ideas, exercises, and last the Reproduction notes, which hold the audit. The
 checker reads the MyST sources; the browser check measures the same code lines on the built
-pages (``tools/browser_check.py``, ``check_reading``).
+pages (``tools/browser_check``, ``check_reading``).
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import event, figures, montecarlo
 from fusioncenter.figures import mo2015
+from fusioncenter.figures.mo2015 import event_kf
 
 IDS = ["mo2015-rate", "mo2015-tradeoff", "mo2015-tracking"]
 
@@ -70,7 +71,7 @@ def test_exactness_check_has_power_against_a_real_wrong_filter():
     """The trigger with silence ignored (CFoMD idea) is not exact; the same z-test sees it."""
     model = mo2015.tracking()
     delta = float(cached_data("mo2015-tracking")["delta"][3])  # target rate 0.5
-    run = mo2015._tracking_run(model, 19, "stochastic-ignore", 2000, 5, delta=delta)
+    run = event_kf._tracking_run(model, 19, "stochastic-ignore", 2000, 5, delta=delta)
     z = run["resid_k"][1:] / run["resid_k_stderr"][1:]
     assert np.max(np.abs(z)) > mo2015.Z_TOL
 

@@ -10,6 +10,8 @@ from figure_helpers import cached_data, check_entry, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures.zheng2014 import nonlinear as zn
+from fusioncenter.figures.zheng2014.nonlinear import feedback as zn_fb
+from fusioncenter.figures.zheng2014.nonlinear import scenario as zn_sc
 
 IDS = ["zheng2014-fig7", "zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10",
        "zheng2014-table3"]
@@ -40,14 +42,14 @@ def test_runs_are_shared_between_entries():
     computed = {i: figures.get(i).run_compute("fast", **size)
                 for i in ("zheng2014-fig8", "zheng2014-fig9", "zheng2014-fig10")}
     seed = figures.get("zheng2014-fig8").seed
-    keys = [k for k in zn._RUNS if k[:4] == ("fast", seed, 2, 300)]
+    keys = [k for k in zn_sc._RUNS if k[:4] == ("fast", seed, 2, 300)]
     # Fig. 8: 4 runs; Fig. 9 adds 3 x 4 (l = 2 shared); Fig. 10 adds CFwMD2 at 3 l (CFwMD
     # shared with Fig. 9)
     assert len(keys) == 4 + 12 + 3
-    hits = zn._fig10_table3.cache_info().hits
+    hits = zn_fb._fig10_table3.cache_info().hits
     t3 = figures.get("zheng2014-table3").run_compute("fast", **size)
     f10 = computed["zheng2014-fig10"]
-    assert zn._fig10_table3.cache_info().hits == hits + 1  # one computation for both entries
+    assert zn_fb._fig10_table3.cache_info().hits == hits + 1  # one computation for both entries
     assert np.array_equal(t3["cfwmd_transmissions"], f10["cfwmd_transmissions"])
     f8, f9 = computed["zheng2014-fig8"], computed["zheng2014-fig9"]
     i8, i9 = f8["schemes"].index("cfwmd"), list(f9["l"]).index(2.0)

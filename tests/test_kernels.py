@@ -12,6 +12,7 @@ from scipy import special
 from fusioncenter import particle
 from fusioncenter._compiled import (
     amplitude_terms,
+    censoring_decisions,
     log_table,
     normal_cdf,
     resampling,
@@ -19,8 +20,7 @@ from fusioncenter._compiled import (
     vector_terms,
     weights,
 )
-from fusioncenter.censoring import _decisions
-from fusioncenter.censoring import _probability_core as pc
+from fusioncenter._compiled import censored_normal as pc
 
 
 def _numpy_systematic(w, u):
@@ -624,7 +624,7 @@ def test_group_stats_is_the_numpy_arithmetic(m):
     g = np.sort(rng.choice(N, m, replace=False)).astype(np.int64)
     k, c = 1, -0.5 / 1.7
     zbar, coef, nsil = np.empty(n), np.empty(n), np.empty(n, dtype=np.int64)
-    n_any, n_sil = _decisions.group_stats(sent, z, k, g, c, zbar, coef, nsil)
+    n_any, n_sil = censoring_decisions.group_stats(sent, z, k, g, c, zbar, coef, nsil)
     sg = sent[:, k][:, g]
     n_obs = sg.sum(axis=1)
     ref = np.where(sg, z[:, k][:, g], 0.0).sum(axis=1) / np.maximum(n_obs, 1)
@@ -636,7 +636,7 @@ def test_group_stats_is_the_numpy_arithmetic(m):
     left = 0.0
     for v in x[0, :8]:
         left += v
-    assert _decisions.GROUP_SUM_MAX == 7 and x[:, :7].sum(axis=1)[0] == sum(x[0, :7])
+    assert censoring_decisions.GROUP_SUM_MAX == 7 and x[:, :7].sum(axis=1)[0] == sum(x[0, :7])
     assert x[:, :8].sum(axis=1)[0] != left
 
 
@@ -649,7 +649,7 @@ def test_censor_decisions_are_the_numpy_comparison():
     sent = np.zeros((n, T, N), dtype=bool)
     for s in (rng.uniform(0.5, 2, N)[None, :], rng.uniform(0.5, 2, (n, N))):
         for eta in (0.0, 0.45):
-            _decisions.censor_decisions(z, 2, hx, s, eta, sent)
+            censoring_decisions.censor_decisions(z, 2, hx, s, eta, sent)
             nu = z[:, 2] - hx
             assert np.array_equal(sent[:, 2], nu * nu >= eta * s)
             assert not sent[:, [0, 1, 3]].any()

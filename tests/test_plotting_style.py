@@ -137,7 +137,7 @@ def panel_letters(fig) -> list[str] | None:
     panels = [ax for ax in fig.get_axes() if ax.get_visible() and ax.has_data()]
     if len(panels) < 2:
         return []
-    found = [plotting._PANEL_LETTER.match(plotting.panel_heading(ax)[0]) for ax in panels]
+    found = [plotting.panels._PANEL_LETTER.match(plotting.panel_heading(ax)[0]) for ax in panels]
     letters = [m[1] for m in found if m]
     return letters if len(letters) == len(panels) == len(set(letters)) else None
 

@@ -32,6 +32,7 @@ from hypothesis import strategies as st
 
 from fusioncenter import (
     censoring,
+    comparison,
     event,
     fading,
     kalman,
@@ -39,7 +40,6 @@ from fusioncenter import (
     particle,
     power,
     riccati,
-    synthesis,
 )
 from fusioncenter.censoring import nonlinear
 from fusioncenter.censoring import probability as cprob
@@ -158,8 +158,8 @@ def _kf_filter(**kw):
     lost = np.zeros(d.z.shape, dtype=bool)
     args = dict(z=d.z, xi=d.xi, delta=1.0)
     args.update(kw)
-    return synthesis.kf_filter(sc, args["z"], args["xi"], lost, "stochastic",
-                               delta=args["delta"])
+    return comparison.kf_filter(sc, args["z"], args["xi"], lost, "stochastic",
+                                delta=args["delta"])
 
 
 # (qualified name, function of keyword arguments, valid keyword arguments, bad kinds per argument)
@@ -346,9 +346,9 @@ ENTRY_POINTS = [
      dict(steps=INT, n_trials=INT, delta=VAR)),
     ("event.event_kf_chunk", lambda **kw: event.event_kf_chunk(RNG(0), model=TRK, **kw),
      dict(n=2, steps=3, scheme="stochastic", delta=1.0), dict(n=INT, steps=INT, delta=VAR)),
-    ("synthesis.outage_threshold", synthesis.outage_threshold, dict(outage=0.1),
+    ("comparison.outage_threshold", comparison.outage_threshold, dict(outage=0.1),
      dict(outage=VAR)),
-    ("synthesis.energy_matched_outage", synthesis.energy_matched_outage,
+    ("comparison.energy_matched_outage", comparison.energy_matched_outage,
      dict(outage_full=0.1, rate=0.5), dict(outage_full=VAR, rate=VAR)),
     ("kalman.kalman_step",
      lambda x, P, innov, C, R: kalman.kalman_step(
@@ -357,7 +357,7 @@ ENTRY_POINTS = [
      dict(x=np.zeros((3, 2)), P=P2, innov=np.ones((3, 1)), C=[[1.0, 0.0]], R=[[1.0]]),
      dict(P=COV0, R=COV0)),
     ("models.wna_model", models.wna_model, dict(dt=1.0), dict(dt=VAR)),
-    ("synthesis.kf_filter", _kf_filter, {}, dict(z=NUM, xi=NUM, delta=VAR)),
+    ("comparison.kf_filter", _kf_filter, {}, dict(z=NUM, xi=NUM, delta=VAR)),
     # issue 29: shapes of the Kalman step and the Riccati step, named with the expected shape
     ("kalman.kalman_step(shapes)",
      lambda x, innov, A, Q: kalman.kalman_step(
@@ -412,10 +412,10 @@ NOT_ENTRY_POINTS = {
     "riccati.PINV_RCOND", "fading.ACCESS_SCHEMES", "power.ACCESS", "power.InfeasibleError",
     "event.SCHEMES", "kalman.KalmanStep",
     "event.Calibration", "event.EventKFRun", "event.split_summary",
-    "synthesis.KF_SCHEMES", "synthesis.PF_SCHEMES", "synthesis.RECEIVERS", "synthesis.Draw",
-    "synthesis.KFOutput", "synthesis.KFRun", "synthesis.Summary", "synthesis.run_pf",
-    "synthesis.summary_from_censoring", "synthesis.scenario_model", "synthesis.draw",
-    "synthesis.kf_chunk", "synthesis.run_kf", "synthesis.kf_flops", "synthesis.pf_flops",
+    "comparison.KF_SCHEMES", "comparison.PF_SCHEMES", "comparison.RECEIVERS", "comparison.Draw",
+    "comparison.KFOutput", "comparison.KFRun", "comparison.Summary", "comparison.run_pf",
+    "comparison.summary_from_censoring", "comparison.scenario_model", "comparison.draw",
+    "comparison.kf_chunk", "comparison.run_kf", "comparison.kf_flops", "comparison.pf_flops",
 }
 @pytest.fixture(scope="module", autouse=True)
 def _report_examples():
@@ -431,14 +431,14 @@ def _good_args(name):
             fn, good = e[1], e[2]
     if name == "kalman.LinearGaussianModel":
         good = dict(A=0.9 * E2, Q=E2, C=[[1.0, 0.0]], R=[[1.0]], m0=[0.0, 1.0], P0=P2)
-    if name == "synthesis.kf_filter":
+    if name == "comparison.kf_filter":
         good = dict(z=_DRAW.z, xi=_DRAW.xi, delta=1.0)
     return fn, good
 
 
 def _draw():
     from fusioncenter import censoring
-    return synthesis.draw(RNG(0), 2, censoring.LinearScenario())
+    return comparison.draw(RNG(0), 2, censoring.LinearScenario())
 
 
 _DRAW = _draw()
@@ -454,7 +454,7 @@ _SENT_FIRST = {("event.posterior", "y"), ("censoring.nonlinear.log_likelihood", 
 
 def test_every_public_function_is_covered():
     names = {e[0] for e in ENTRY_POINTS}
-    for mod in (riccati, kalman, models, fading, power, event, synthesis):
+    for mod in (riccati, kalman, models, fading, power, event, comparison):
         short = mod.__name__.rsplit(".", 1)[1]
         for attr in mod.__all__:
             if inspect.ismodule(getattr(mod, attr)):  # a package's submodule

@@ -367,7 +367,7 @@ def test_ekf_covariance_step_zero_information_and_its_arguments():
     np.testing.assert_array_equal(Pu, Pp)
     np.testing.assert_array_equal(Pp, P + Q)
     # s > 0 is the Joseph form as before, bit for bit (the filters call the same kernel)
-    from fusioncenter.censoring._nonlinear_core import ekf_step
+    from fusioncenter._compiled.amplitude_ekf import ekf_step
     g = np.array([0.3, 0.0, -0.2, 0.0])
     for got, want in zip(nl.ekf_covariance_step(P, g, F, Q, 1.0), ekf_step(P, g, F, Q, 1.0),
                          strict=True):

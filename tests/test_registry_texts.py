@@ -5,7 +5,7 @@ name and detail (:func:`fusioncenter.book.evidence_html`); the scorecard prints 
 caption of a *differs* entry its reason, and the zheng2014 chapters the scenarios' ``choices``
 and the claims of :mod:`fusioncenter.censoring_compare`. None of it may hold a Python repr, a
 bare boolean or an ASCII stand-in for mathematics: the site's own detectors
-(``find_repr_output`` and ``find_ascii_math`` of ``tools/browser_check.py``) and the stricter
+(``find_repr_output`` and ``find_ascii_math`` of ``tools/browser_check``) and the stricter
 patterns below (``<=``, ``+/-``, ``->``, ``p_k``, ``P_inf``, ``x^2``, ``||e||``, ``sigma``,
 ``3 x 3``) find nothing.
 
@@ -16,7 +16,6 @@ that test is ``heavy``.
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import sys
 from pathlib import Path
@@ -31,17 +30,9 @@ from fusioncenter.censoring import nonlinear_model, scenarios, vector
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _browser_check():
-    if "browser_check" not in sys.modules:
-        spec = importlib.util.spec_from_file_location("browser_check",
-                                                      ROOT / "tools" / "browser_check.py")
-        module = importlib.util.module_from_spec(spec)
-        sys.modules["browser_check"] = module
-        spec.loader.exec_module(module)
-    return sys.modules["browser_check"]
-
-
-bc = _browser_check()
+sys.path.insert(0, str(ROOT / "tools"))
+import browser_check as bc  # noqa: E402  (tools/ is not a package)
+from browser_check.reading import GREEK  # noqa: E402
 
 #: Stand-ins the site's detectors let through in registry text (they read chapter pages, where
 #: code and math are excluded first); each has a Unicode form (≤, ±, →, pₖ, P∞, x², ‖e‖, σ, ×).
@@ -52,7 +43,7 @@ STRICT = [
     ("underscore subscript", re.compile(r"\b[A-Za-z]+_(?:\{|[A-Za-z0-9])")),
     ("caret", re.compile(r"\^")),
     ("norm bars", re.compile(r"\|\|")),
-    ("Greek name", re.compile(rf"\b(?:{bc._GREEK})\b")),
+    ("Greek name", re.compile(rf"\b(?:{GREEK})\b")),
     ("sqrt or inf", re.compile(r"\b(?:sqrt|inf)\b")),
     ("times as x", re.compile(r"\d\s*x\s*\d")),
     ("Python literal", re.compile(r"\b(?:True|False|None)\b")),

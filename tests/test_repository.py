@@ -54,7 +54,7 @@ def test_lock_pins_jupyter_book_1_and_every_extension():
     pins = _lock()
     assert pins["jupyter-book"].startswith("1.")
     for ext in ["sphinx", "sphinx-book-theme", "sphinx-proof", "sphinx-exercise",
-                "sphinxcontrib-bibtex", "myst-nb", "myst-parser", "sphinx-mathjax-offline",
+                "sphinxcontrib-bibtex", "myst-nb", "myst-parser",
                 "nbval", "jupytext", "numpy", "scipy", "sympy", "matplotlib", "filterpy", "numba",
                 "playwright", "dask", "distributed"]:
         assert ext in pins, f"{ext} is not pinned in requirements/lock.txt"
@@ -90,9 +90,38 @@ def test_config_executes_strictly_and_serves_mathjax_locally():
     assert cfg["execute"]["allow_errors"] is False
     assert cfg["execute"]["execute_notebooks"] in ("cache", "force")
     sph = cfg["sphinx"]
-    assert {"sphinx_proof", "sphinx_exercise", "sphinx-mathjax-offline"} <= set(
-        sph["extra_extensions"])
+    assert {"sphinx_proof", "sphinx_exercise"} <= set(sph["extra_extensions"])
+    assert sph["local_extensions"]["mathjax4"] == "book/_ext"
     assert not sph["config"]["mathjax_path"].startswith(("http", "//"))
+
+
+def test_mathjax_is_pinned_and_served_from_the_site(tmp_path):
+    """book/_ext/mathjax4.py: MathJax 4 pinned by version and sha512, its font found on the
+    site (no CDN), displays broken to the column; a tarball that does not match its integrity
+    is refused."""
+    sys.path.insert(0, str(ROOT / "book" / "_ext"))
+    import mathjax4
+
+    assert mathjax4.VERSION.startswith("4.")
+    assert all(url.startswith("https://registry.npmjs.org/") and integ.startswith("sha512-")
+               and mathjax4.VERSION in url for url, integ, _ in mathjax4.PACKAGES)
+    assert mathjax4.CONFIG["loader"]["paths"]["fonts"] == "[mathjax]/fonts"
+    assert mathjax4.CONFIG["output"]["displayOverflow"] == "linebreak"
+    merged = mathjax4._merge({"tex": {"macros": {"E": "x"}}, "output": {"scale": 1}},
+                             mathjax4.CONFIG)
+    assert merged["tex"] == {"macros": {"E": "x"}} and merged["output"]["scale"] == 1
+    assert mathjax4._kept("", "a11y/explorer.js") and not mathjax4._kept("", "tex-svg.js")
+
+    bad = [(f"file://{tmp_path}/x.tgz", "sha512-AAAA", "")]
+    (tmp_path / "x.tgz").write_bytes(b"not the package")
+    old = mathjax4.PACKAGES
+    mathjax4.PACKAGES = bad
+    try:
+        with pytest.raises(RuntimeError, match="integrity"):
+            mathjax4.fetch(tmp_path / "tree", log=lambda *a: None)
+    finally:
+        mathjax4.PACKAGES = old
+    assert not (tmp_path / "tree").exists()
 
 
 def test_every_cited_key_is_in_the_bibliography():

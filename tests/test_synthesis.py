@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from figure_helpers import cached_data, data, failed
 
-from fusioncenter import censoring, event, figures, models, montecarlo, synthesis
+from fusioncenter import censoring, comparison, event, figures, models, montecarlo
 from fusioncenter.fading import Rayleigh
 from fusioncenter.figures import synthesis as fs
 
@@ -20,7 +20,7 @@ SC = censoring.LinearScenario()
 
 # ----------------------------------------------------------------------------- library
 def test_scenario_model_is_the_tracking_model():
-    a, b = synthesis.scenario_model(SC), models.tracking_model()
+    a, b = comparison.scenario_model(SC), models.tracking_model()
     for name in ("A", "Q", "C", "R", "m0", "P0"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     assert censoring.scenarios.wna_model is models.wna_model  # the tracking model, defined once
@@ -36,8 +36,8 @@ def test_kf_filter_equals_event_kf_run_on_the_same_draws():
         rng = np.random.default_rng(5)
         _, y = model.sample(rng, 64, SC.T)
         xi = rng.random((64, SC.T + 1, 2))
-        out = synthesis.kf_filter(SC, y[:, 1:], xi[:, 1:], np.zeros((64, SC.T, 2), bool),
-                                  scheme, **kw)
+        out = comparison.kf_filter(SC, y[:, 1:], xi[:, 1:], np.zeros((64, SC.T, 2), bool),
+                                   scheme, **kw)
         assert np.array_equal(out.sent, run.gamma[:, 1:])
         assert np.max(np.abs(out.xhat - run.xhat[:, 1:])) < 1e-9
         assert np.max(np.abs(out.P - run.P[:, 1:])) < 1e-9
@@ -45,44 +45,44 @@ def test_kf_filter_equals_event_kf_run_on_the_same_draws():
 
 def test_draw_reproduces_censoring_trials():
     """The KF family sees censoring.run's trials: the all-send PF and KF errors are paired."""
-    kf = synthesis.run_kf(SC, [synthesis.KFRun("all-send")], n_trials=64, seed=3)[0]
-    pf = synthesis.summary_from_censoring(
+    kf = comparison.run_kf(SC, [comparison.KFRun("all-send")], n_trials=64, seed=3)[0]
+    pf = comparison.summary_from_censoring(
         censoring.run(SC, "all-send", l=2, n_trials=64, n_particles=300, seed=3))
     a, b = kf.samples[..., 0].mean(axis=1), pf.samples[..., 0].mean(axis=1)
     assert np.corrcoef(a, b)[0, 1] > 0.95
-    other = synthesis.run_kf(SC, [synthesis.KFRun("all-send")], n_trials=64, seed=4)[0]
+    other = comparison.run_kf(SC, [comparison.KFRun("all-send")], n_trials=64, seed=4)[0]
     assert np.corrcoef(other.samples[..., 0].mean(axis=1), b)[0, 1] < 0.5
 
 
 def test_run_pf_without_outage_is_censorings_filter():
-    for scheme in synthesis.PF_SCHEMES:
-        ref = synthesis.summary_from_censoring(
+    for scheme in comparison.PF_SCHEMES:
+        ref = comparison.summary_from_censoring(
             censoring.run(SC, scheme, l=1, n_trials=64, n_particles=200, seed=9))
-        mine = synthesis.run_pf(SC, scheme, l=1, n_trials=64, n_particles=200, seed=9)
+        mine = comparison.run_pf(SC, scheme, l=1, n_trials=64, n_particles=200, seed=9)
         d, se = mine.paired_difference(ref)
         assert abs(d) <= 4 * se + 1e-9
         dr, ser = mine.paired_difference(ref, rate=True)
         assert abs(dr) <= 4 * ser + 1e-12
-        naive = synthesis.run_pf(SC, scheme, l=1, n_trials=64, n_particles=200, seed=9,
-                                 receiver="naive")
+        naive = comparison.run_pf(SC, scheme, l=1, n_trials=64, n_particles=200, seed=9,
+                                  receiver="naive")
         assert np.array_equal(naive.samples, mine.samples, equal_nan=True)  # nothing lost
 
 
 def test_results_do_not_depend_on_chunking():
-    runs = [synthesis.KFRun("stochastic", delta=2.0, outage=0.2, receiver="naive")]
-    a = synthesis.run_kf(SC, runs, n_trials=40, seed=1, block_size=16)[0]
-    b = synthesis.run_kf(SC, runs, n_trials=40, seed=1, block_size=16, chunk_size=16)[0]
+    runs = [comparison.KFRun("stochastic", delta=2.0, outage=0.2, receiver="naive")]
+    a = comparison.run_kf(SC, runs, n_trials=40, seed=1, block_size=16)[0]
+    b = comparison.run_kf(SC, runs, n_trials=40, seed=1, block_size=16, chunk_size=16)[0]
     assert np.array_equal(a.samples, b.samples)
-    c = synthesis.run_pf(SC, "cfwmd", l=1, n_trials=40, n_particles=50, seed=1, outage=0.2,
-                         block_size=16)
-    d = synthesis.run_pf(SC, "cfwmd", l=1, n_trials=40, n_particles=50, seed=1, outage=0.2,
-                         block_size=16, chunk_size=32)
+    c = comparison.run_pf(SC, "cfwmd", l=1, n_trials=40, n_particles=50, seed=1, outage=0.2,
+                          block_size=16)
+    d = comparison.run_pf(SC, "cfwmd", l=1, n_trials=40, n_particles=50, seed=1, outage=0.2,
+                          block_size=16, chunk_size=32)
     assert np.array_equal(c.samples, d.samples, equal_nan=True)
 
 
 def test_losses_are_nested_and_have_the_outage_probability():
-    d = synthesis.draw(np.random.default_rng(0), 4000, SC)
-    lost = [d.gain < synthesis.outage_threshold(e) for e in (0.1, 0.3)]
+    d = comparison.draw(np.random.default_rng(0), 4000, SC)
+    lost = [d.gain < comparison.outage_threshold(e) for e in (0.1, 0.3)]
     assert np.all(lost[1] | ~lost[0])  # lost at 0.1 => lost at 0.3
     for e, ls in zip((0.1, 0.3), lost, strict=True):
         assert abs(ls.mean() - e) < 4 * np.sqrt(e * (1 - e) / ls.size)
@@ -91,18 +91,18 @@ def test_losses_are_nested_and_have_the_outage_probability():
 def test_energy_matched_outage_closed_form():
     ch = Rayleigh(2.5)
     for e1 in (0.05, 0.3, 0.7):
-        g1 = synthesis.outage_threshold(e1, ch)
+        g1 = comparison.outage_threshold(e1, ch)
         for rho in (0.0, 0.3, 1.0):
             direct = 1 - np.exp(-ch.lam * rho * g1)  # threshold scaled by the power ratio rho
-            assert synthesis.energy_matched_outage(e1, rho) == pytest.approx(direct, rel=1e-12,
-                                                                              abs=1e-15)
-    assert synthesis.energy_matched_outage(0.4, 1.0) == pytest.approx(0.4)
+            assert comparison.energy_matched_outage(e1, rho) == pytest.approx(direct, rel=1e-12,
+                                                                               abs=1e-15)
+    assert comparison.energy_matched_outage(0.4, 1.0) == pytest.approx(0.4)
 
 
 def test_csi_receiver_keeps_the_trigger_exact_and_naive_does_not():
-    runs = [synthesis.KFRun("stochastic", delta=2.0, outage=0.3, receiver=r)
+    runs = [comparison.KFRun("stochastic", delta=2.0, outage=0.3, receiver=r)
             for r in ("csi", "naive")]
-    csi, naive = synthesis.run_kf(SC, runs, n_trials=3000, seed=2)
+    csi, naive = comparison.run_kf(SC, runs, n_trials=3000, seed=2)
     v, se = csi.calibration()
     assert abs(v) < 4 * se
     v, se = naive.calibration()
@@ -110,8 +110,8 @@ def test_csi_receiver_keeps_the_trigger_exact_and_naive_does_not():
 
 
 def test_summary_pairing_is_enforced():
-    a = synthesis.run_kf(SC, [synthesis.KFRun("all-send")], n_trials=8, seed=1)[0]
-    b = synthesis.run_kf(SC, [synthesis.KFRun("all-send")], n_trials=8, seed=2)[0]
+    a = comparison.run_kf(SC, [comparison.KFRun("all-send")], n_trials=8, seed=1)[0]
+    b = comparison.run_kf(SC, [comparison.KFRun("all-send")], n_trials=8, seed=2)[0]
     with pytest.raises(ValueError, match="paired"):
         a.paired_difference(b)
     with pytest.raises(ValueError, match="component"):
@@ -119,36 +119,36 @@ def test_summary_pairing_is_enforced():
 
 
 def test_flop_counts():
-    kf = synthesis.kf_flops(2, 2)
+    kf = comparison.kf_flops(2, 2)
     assert kf["flops"] == 132
-    per = [synthesis.pf_flops(2, 2, p, "cfwmd")["flops"] / p for p in (10, 1000)]
+    per = [comparison.pf_flops(2, 2, p, "cfwmd")["flops"] / p for p in (10, 1000)]
     assert per[0] == per[1] == 43
-    assert synthesis.pf_flops(2, 2, 100, "cfomd")["flops"] < \
-        synthesis.pf_flops(2, 2, 100, "cfwmd")["flops"]
+    assert comparison.pf_flops(2, 2, 100, "cfomd")["flops"] < \
+        comparison.pf_flops(2, 2, 100, "cfwmd")["flops"]
     with pytest.raises(ValueError, match="n_particles"):
-        synthesis.pf_flops(2, 2, 0)
+        comparison.pf_flops(2, 2, 0)
     with pytest.raises(ValueError, match="scheme"):
-        synthesis.pf_flops(2, 2, 10, "exact")
+        comparison.pf_flops(2, 2, 10, "exact")
 
 
 @pytest.mark.parametrize("call, match", [
-    (lambda: synthesis.outage_threshold(1.0), "outage"),
-    (lambda: synthesis.outage_threshold(-0.1), "outage"),
-    (lambda: synthesis.energy_matched_outage(0.2, 1.5), "rate"),
-    (lambda: synthesis.run_kf(SC, [synthesis.KFRun("stochastic")], n_trials=2, seed=0),
+    (lambda: comparison.outage_threshold(1.0), "outage"),
+    (lambda: comparison.outage_threshold(-0.1), "outage"),
+    (lambda: comparison.energy_matched_outage(0.2, 1.5), "rate"),
+    (lambda: comparison.run_kf(SC, [comparison.KFRun("stochastic")], n_trials=2, seed=0),
      "delta"),
-    (lambda: synthesis.run_kf(SC, [synthesis.KFRun("random", p=1.5)], n_trials=2, seed=0), "p"),
-    (lambda: synthesis.run_kf(SC, [synthesis.KFRun("all-send", receiver="x")], n_trials=2,
-                              seed=0), "receiver"),
-    (lambda: synthesis.run_kf(SC, [synthesis.KFRun("cfwmd")], n_trials=2, seed=0), "scheme"),
-    (lambda: synthesis.run_kf(SC, [], n_trials=2, seed=0), "runs"),
-    (lambda: synthesis.run_pf(SC, "random", l=1, n_trials=2, n_particles=5, seed=0), "scheme"),
-    (lambda: synthesis.run_pf(SC, "cfwmd", l=3, n_trials=2, n_particles=5, seed=0), "l "),
-    (lambda: synthesis.run_pf(SC, "cfwmd", l=1, n_trials=2, n_particles=0, seed=0),
+    (lambda: comparison.run_kf(SC, [comparison.KFRun("random", p=1.5)], n_trials=2, seed=0), "p"),
+    (lambda: comparison.run_kf(SC, [comparison.KFRun("all-send", receiver="x")], n_trials=2,
+                               seed=0), "receiver"),
+    (lambda: comparison.run_kf(SC, [comparison.KFRun("cfwmd")], n_trials=2, seed=0), "scheme"),
+    (lambda: comparison.run_kf(SC, [], n_trials=2, seed=0), "runs"),
+    (lambda: comparison.run_pf(SC, "random", l=1, n_trials=2, n_particles=5, seed=0), "scheme"),
+    (lambda: comparison.run_pf(SC, "cfwmd", l=3, n_trials=2, n_particles=5, seed=0), "l "),
+    (lambda: comparison.run_pf(SC, "cfwmd", l=1, n_trials=2, n_particles=0, seed=0),
      "n_particles"),
-    (lambda: synthesis.kf_filter(SC, np.zeros((2, 5, 2)), np.zeros((2, 5, 2)),
-                                 np.zeros((2, 5, 2), bool), "all-send"), "z must"),
-    (lambda: synthesis.scenario_model("tracking"), "scenario"),
+    (lambda: comparison.kf_filter(SC, np.zeros((2, 5, 2)), np.zeros((2, 5, 2)),
+                                  np.zeros((2, 5, 2), bool), "all-send"), "z must"),
+    (lambda: comparison.scenario_model("tracking"), "scenario"),
 ])
 def test_bad_input_raises_value_error(call, match):
     with pytest.raises(ValueError, match=match):
@@ -298,5 +298,5 @@ def test_fading_fails_on_spending_or_energy():
 
 def test_montecarlo_runner_is_the_one_used():
     """The entries' trials come from montecarlo.simulate blocks (seeded, chunk-independent)."""
-    res = synthesis.run_kf(SC, [synthesis.KFRun("all-send")], n_trials=10, seed=7)[0]
+    res = comparison.run_kf(SC, [comparison.KFRun("all-send")], n_trials=10, seed=7)[0]
     assert res.block_size == montecarlo.DEFAULT_BLOCK_SIZE and res.seed == 7

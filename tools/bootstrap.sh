@@ -26,13 +26,18 @@ lab_settings() {
     mkdir -p "$dir" && cp binder/overrides.json "$dir/overrides.json"
   fi
 }
+# MathJax 4, which the site serves itself (book/_ext/mathjax4.py: pinned npm tarballs, checked
+# against their sha512), unpacked once into the environment; nothing happens when it is there.
+mathjax() {
+  "$VENV/bin/python" book/_ext/mathjax4.py "$VENV" >/dev/null
+}
 # the version is part of the stamp: the editable install's metadata carries it, and the chapters'
 # first cell compares it with the book's
 stamp_id=$(cat requirements/lock.txt requirements/overrides.txt pyproject.toml src/fusioncenter/__init__.py \
   | sha256sum | cut -c1-16)
 stamp="$VENV/.installed-$stamp_id"
 if [ -f "$stamp" ]; then
-  [ -x "$VENV/bin/python" ] && lab_settings
+  [ -x "$VENV/bin/python" ] && lab_settings && mathjax
   exit 0
 fi
 echo "bootstrap: installing the environment into $VENV from requirements/lock.txt" >&2
@@ -50,6 +55,7 @@ else
   "${pip_q[@]}" --no-deps -e .
 fi
 lab_settings
+mathjax
 rm -f "$VENV"/.installed-*
 touch "$stamp"
 echo "bootstrap: done" >&2

@@ -80,7 +80,7 @@ PRELOAD = [
     "mpmath", "filterpy.kalman", "matplotlib", "matplotlib.figure", "fusioncenter",
     "fusioncenter.figures", "fusioncenter.censoring", "fusioncenter.censoring.vector",
     "fusioncenter.censoring.nonlinear", "fusioncenter.event", "fusioncenter.fading",
-    "fusioncenter.power", "fusioncenter.synthesis", "fusioncenter.particle",
+    "fusioncenter.power", "fusioncenter.comparison", "fusioncenter.particle",
     "fusioncenter.riccati", "fusioncenter.kalman", "fusioncenter.models", "matplotlib.pyplot",
     "fusioncenter.plotting", "fusioncenter.book",
     # what a chapter's first glue() imports (fusioncenter.glue calls MyST-NB's): nbformat and

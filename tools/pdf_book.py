@@ -4,14 +4,14 @@
     python tools/pdf_book.py --site _build/fast/_build/html    # -> _build/fast/_build/pdf/book.pdf
 
 No TeX: each page of the built HTML site is loaded in headless Chromium (Debian's
-``/usr/bin/chromium`` driven by playwright, as in tools/browser_check.py), MathJax typesets it,
+``/usr/bin/chromium`` driven by playwright: tools/headless.py), MathJax typesets it,
 print CSS wraps code and outputs instead of clipping them and opens every collapsed block
 (hidden inputs, solutions), and Chromium prints it. pypdf then merges the pages behind a title
 page and a table of contents (with the page where each chapter starts), stamps page numbers
 and adds one bookmark per chapter under one per part. The PDF is written next to the site:
 ``<site>/../pdf/book.pdf``.
 
-The printing is :class:`Printer`'s; in ``make test`` the browser check (tools/browser_check.py)
+The printing is :class:`Printer`'s; in ``make test`` the browser check (tools/browser_check)
 drives it from the pages it has just loaded and checked, and the PDF is the same: its 775 pages
 render to the same pixels as this script's.
 """
@@ -21,162 +21,35 @@ from __future__ import annotations
 import argparse
 import functools
 import html
-import http.server
 import io
 import json
 import shutil
-import socketserver
 import sys
 import threading
 import time
 from pathlib import Path
-from urllib.parse import unquote, urlsplit
+from urllib.parse import urlsplit
 
 import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-# VIEWPORT: the window build_pdf prints from, the browser check's; the print layout does not
-# depend on it (the 238 pages of the API page print the same from 1000 x 1400 and 400 x 900)
-from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY, VIEWPORT  # noqa: E402
 from chapters import ROOT  # noqa: E402
+
+# VIEWPORT: the window build_pdf prints from, the browser check's
+from headless import LOCAL_HOST, VIEWPORT, LoopbackServer, QuietHandler, launch  # noqa: E402
+from pdf_links import destinations, relink  # noqa: E402
+from print_page import (  # noqa: E402
+    NUMBER_JS,
+    OPEN_AND_TYPESET_JS,
+    PAGE,
+    PRINT_CSS,
+    SECTIONS_JS,
+    TARGETS_JS,
+    screen_media,
+)
 
 #: Pages under this prefix (the API reference's module pages) are printed into api.pdf.
 APPENDIX = "book/api/"
-PAGE = {"format": "A4", "margin": {"top": "16mm", "bottom": "18mm", "left": "14mm",
-                                   "right": "14mm"}}
-
-# Print styles on top of the theme's own print CSS: nothing clipped, nothing collapsed. They
-# apply to the print only (``@media print``). Printer.add emulates print media before Chromium
-# prints (the print then needs no layout of its own and none back to the screen: 17 % less
-# printing time on four big pages, 8.8 s against 7.3 s, the same pixels on 614 of the fast
-# book's 619 pages; of the other five, four change from run to run (the execution status, a
-# figure of measured run times) and one code output wraps a full line with a blank line more)
-# and leaves the page so: the next page is loaded after :func:`screen_media`, on a blank page,
-# where switching back costs nothing (switching back on the printed page itself took 21 s of
-# the 76 s that 16 big pages took).
-PRINT_CSS = """
-@page { size: A4; }
-@media print {
-html, body { font-size: 10.5pt !important; }
-*, *::before, *::after { animation: none !important; transition: none !important;
-  box-shadow: none !important; text-shadow: none !important; }
-.bd-header, .bd-sidebar-primary, .bd-sidebar-secondary, .bd-header-article, .bd-footer,
-.bd-footer-article, .prev-next-area, .header-article-items, .bd-search, #pst-back-to-top,
-.headerlink, .toggle-details__summary .tb-icon, .copybtn { display: none !important; }
-.bd-main, .bd-content, .bd-article-container, .bd-page-width, .bd-container,
-.bd-container__inner, .bd-article { max-width: 100% !important; width: 100% !important;
-  padding: 0 !important; margin: 0 !important; overflow: visible !important; }
-pre, .highlight pre, .output pre, .cell_output pre, div.highlight {
-  white-space: pre-wrap !important; overflow-wrap: anywhere !important;
-  word-break: break-word !important; overflow: visible !important; max-height: none !important;
-  font-size: 8pt !important; }
-.cell_output, .output, .cell_input, div.cell, .table-wrapper, .pst-scrollable-table-container,
-.math-wrapper, div.math, mjx-container { overflow: visible !important;
-  max-height: none !important; }
-mjx-container[display="true"] { max-width: 100% !important; }
-table { font-size: 8pt !important; table-layout: auto; }
-td, th { word-break: normal !important; overflow-wrap: break-word !important;
-  hyphens: auto; }
-img { max-width: 100% !important; height: auto !important; page-break-inside: avoid;
-      break-inside: avoid; }
-/* a figure stays whole with its caption: no image taller than what a page holds beside its
-   caption (A4 less the margins is 263 mm), so a tall stacked figure shrinks instead of being
-   pushed to the next page (leaving a blank one) and cut there */
-figure, .cell_output img { break-inside: avoid !important; page-break-inside: avoid; }
-figure img, .cell_output img { max-height: 200mm !important; width: auto !important;
-  min-width: 0 !important; margin: 0 auto; display: block; }
-figure figcaption { break-before: avoid; }
-tr, .admonition-title, .caption { break-inside: avoid; }
-h1, h2, h3 { break-after: avoid; }
-details > *:not(summary) { display: block !important; opacity: 1 !important; }
-details.hide > summary { display: none !important; }
-.cell_output img { display: block; margin: 0 auto; }
-}
-"""
-
-OPEN_AND_TYPESET_JS = """
-async () => {
-  document.querySelectorAll('details').forEach(d => d.open = true);
-  document.querySelectorAll('.toggle-hidden, .toggle-details').forEach(
-      e => e.classList.remove('toggle-hidden'));
-  const imgs = Array.from(document.images);
-  imgs.forEach(i => { if (i.loading === 'lazy') i.loading = 'eager'; });
-  await Promise.all(imgs.map(i => i.complete ? null : new Promise(done => {
-    i.addEventListener('load', done, {once: true}); i.addEventListener('error', done, {once: true});
-    setTimeout(done, 10000); })));
-  if (window.MathJax && MathJax.startup && MathJax.startup.promise) {
-    await MathJax.startup.promise;
-    if (MathJax.typesetPromise) { await MathJax.typesetPromise(); }
-  }
-  if (document.fonts && document.fonts.ready) { await document.fonts.ready; }
-  const h1 = document.querySelector('article h1, main h1, h1');
-  let title = document.title;
-  if (h1) {  // the title without the chapter number the site puts before it
-    const c = h1.cloneNode(true);
-    c.querySelectorAll('.section-number, .fc-pdf-number').forEach(e => e.remove());
-    title = c.textContent.replace(/[#\\u00b6]/g, '').trim();
-  }
-  const raw = Array.from(document.querySelectorAll('.math')).filter(el => {
-    const c = el.cloneNode(true); c.querySelectorAll('mjx-container').forEach(m => m.remove());
-    return /\\$\\$|\\\\\\(|\\\\\\[/.test(c.textContent); }).length;
-  return {title: title, rawMath: raw, images: imgs.filter(i => i.naturalWidth > 0).length};
-}
-"""
-
-
-# Every element with an id becomes a PDF destination: Chromium writes a named destination for
-# each target of a same-page link, so a hidden same-page link to every id makes all of them
-# targets (Printer.write turns the links between pages into links inside the PDF).
-TARGETS_JS = """
-() => {
-  const box = document.createElement('div');
-  box.style.display = 'none';
-  box.className = 'fc-pdf-targets';
-  let n = 0;
-  for (const el of document.querySelectorAll('article [id], main [id]')) {
-    if (!el.id || el.closest('mjx-container, svg')) continue;
-    const a = document.createElement('a');
-    a.href = '#' + encodeURIComponent(el.id);
-    box.appendChild(a);
-    n += 1;
-  }
-  document.body.appendChild(box);
-  return n;
-}
-"""
-
-
-# The chapter's sections (``<section id=...><h2>``): bookmarks under the chapter's own; and the
-# chapter's number before its title (the site numbers figures and exercises by chapter).
-SECTIONS_JS = """
-() => Array.from(document.querySelectorAll('article section > h2')).map(h => {
-  const c = h.cloneNode(true);
-  const num = c.querySelector('.section-number');
-  const n = num ? num.textContent.trim().replace(/\\.$/, '') : '';
-  if (num) num.remove();
-  return [h.parentElement.id, n, c.textContent.replace(/[#\\u00b6]/g, '').trim()];
-}).filter(s => s[0])
-"""
-NUMBER_JS = """
-(num) => {
-  const h1 = document.querySelector('article h1');
-  if (h1 && num && !/^\\s*\\d/.test(h1.textContent)) {
-    const s = document.createElement('span');
-    s.className = 'fc-pdf-number';
-    s.textContent = num + '\\u2002';
-    h1.prepend(s);
-  }
-}
-"""
-
-
-class _Quiet(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, format, *args):  # noqa: A002 (the base class's name)
-        pass
-
-
-class _Server(socketserver.ThreadingMixIn, http.server.HTTPServer):
-    daemon_threads = True
 
 
 def toc_entries() -> list[tuple[str | None, str]]:
@@ -266,18 +139,12 @@ def _numbers_html(n: int, skip: int, heads: dict[int, str] | None = None) -> str
                      "padding-bottom:1mm;white-space:nowrap;overflow:hidden}")
 
 
-def screen_media(page) -> None:
-    """A blank page in screen media: what the next page loads into after :meth:`Printer.add`
-    left ``page`` in print media."""
-    page.goto("about:blank")
-    page.emulate_media(media="null")
-
 
 class Printer:
     """Prints the site's pages into one PDF, a page of the browser at a time.
 
     :func:`build_pdf` loads every page of the table of contents for it; the browser check of
-    ``make test`` (``tools/browser_check.py``) hands it each page it has just checked instead,
+    ``make test`` (``tools/browser_check``) hands it each page it has just checked instead,
     so that the site is loaded and typeset once for both. Either way a page is printed by
     :meth:`add` from the same state: loaded, :data:`PRINT_CSS` added, every collapsed block
     opened and MathJax's typesetting awaited.
@@ -492,106 +359,21 @@ class Printer:
                 "bytes": out.stat().st_size}
 
 
-def destinations(docs) -> tuple[dict, dict, dict]:
-    """Where each anchor of each page is in the merged PDF. ``docs`` is ``(docname, its
-    PdfReader, the index of its first page in the merged PDF)`` in order. Returns
-    ``(dests, first, page_doc)``: ``dests[doc][id] = (page index, left, top)`` from Chromium's
-    named destinations, ``first[doc]`` the page index where ``doc`` starts, ``page_doc[index]``
-    the doc a page belongs to."""
-    dests: dict[str, dict[str, tuple[int, float, float]]] = {}
-    page_doc: dict[int, str] = {}
-    first: dict[str, int] = {}
-    for doc, reader, start in docs:
-        first[doc] = start
-        for k in range(len(reader.pages)):
-            page_doc[start + k] = doc
-        table = {}
-        for name, d in reader.named_destinations.items():
-            try:
-                k = reader.get_destination_page_number(d)
-            except Exception:  # a destination without a page of this reader
-                continue
-            table[str(name).lstrip("/")] = (start + k, float(d.left or 0), float(d.top or 0))
-        dests[doc] = table
-    return dests, first, page_doc
-
-
-def relink(writer, where, origin: str, baseurl: str) -> dict[str, int]:
-    """Make the printed links work in the PDF.
-
-    Chromium prints a link to another page of the site as a link to the local print server
-    (``origin``, gone once the PDF is written) and a link inside the page as a named
-    destination of that page's own PDF. Every link to a page of the book becomes a link to
-    the place in the PDF (the anchor's destination, else the page's first page); every other
-    link to the local server (figure data, the index, the search page) goes to the published
-    site ``baseurl``; links elsewhere are kept. ``where`` is :func:`destinations`'s answer.
-    Returns the counts by kind."""
-    from pypdf.generic import ArrayObject, FloatObject, NameObject, NullObject
-
-    dests, first, page_doc = where
-    counts = {"internal": 0, "to the site": 0, "kept": 0, "unresolved": 0}
-
-    def explicit(idx: int, left: float, top: float):
-        return ArrayObject([writer.pages[idx].indirect_reference, NameObject("/XYZ"),
-                            FloatObject(left), FloatObject(top), NullObject()])
-
-    def target(doc: str, fragment: str):
-        if fragment:
-            for key in (fragment, unquote(fragment)):
-                if key in dests.get(doc, {}):
-                    return dests[doc][key]
-        return (first[doc], 0.0, 10_000.0) if doc in first else None
-
-    for i, page in enumerate(writer.pages):
-        for ref in page.get("/Annots") or []:
-            a = ref.get_object()
-            if a.get("/Subtype") != "/Link":
-                continue
-            dest = a.get("/Dest")
-            if dest is not None and not isinstance(dest, list):
-                t = dests.get(page_doc.get(i, ""), {}).get(str(dest).lstrip("/"))
-                if t is None:
-                    counts["unresolved"] += 1
-                    continue
-                a[NameObject("/Dest")] = explicit(*t)
-                counts["internal"] += 1
-                continue
-            action = a.get("/A")
-            uri = str(action.get("/URI", "")) if action is not None else ""
-            if not uri.startswith(origin + "/") or not origin:
-                counts["kept"] += 1 if uri else 0
-                continue
-            parts = urlsplit(uri[len(origin):])
-            path = unquote(parts.path).lstrip("/")
-            doc = path.removesuffix(".html") if path.endswith(".html") else None
-            t = target(doc, parts.fragment) if doc in first else None
-            if t is not None:
-                del a[NameObject("/A")]
-                a[NameObject("/Dest")] = explicit(*t)
-                counts["internal"] += 1
-            else:
-                action[NameObject("/URI")] = type(action["/URI"])(
-                    baseurl.rstrip("/") + "/" + uri[len(origin):].lstrip("/"))
-                counts["to the site"] += 1
-    return counts
-
 
 def build_pdf(site: Path, out: Path) -> dict:
     from playwright.sync_api import sync_playwright
 
     printer = Printer(site, out)
-    handler = functools.partial(_Quiet, directory=str(site))
-    server = _Server(("127.0.0.1", 0), handler)
+    handler = functools.partial(QuietHandler, directory=str(site))
+    server = LoopbackServer((LOCAL_HOST, 0), handler)
     threading.Thread(target=server.serve_forever, daemon=True).start()
-    base = f"http://127.0.0.1:{server.server_address[1]}"
+    base = f"http://{LOCAL_HOST}:{server.server_address[1]}"
     try:
         with sync_playwright() as pw:
             # nothing but this server is reachable: any other host fails to resolve at once
             # (in Chromium itself: intercepting every request in Python cost a fifth of the
             # page loads; the browser check is the one that reports external requests)
-            browser = pw.chromium.launch(
-                executable_path=CHROMIUM, headless=True,
-                args=[*CHROMIUM_ARGS, LOOPBACK_ONLY])
+            browser = launch(pw)
             page = browser.new_page(viewport=VIEWPORT)
             for _part, doc in printer.entries + printer.appendix:
                 screen_media(page)

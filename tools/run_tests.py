@@ -16,7 +16,7 @@ Stages (all run; the exit code is 1 if any failed):
                line ``kernels``, with the kernels' CPU
 3. site build  the book in the ``fast`` profile with ``-n -W --keep-going``, raise_on_error
 4. site        the headless-Chromium check of the built site (two browsers side by side:
-               tools/browser_check.py, :data:`BROWSER_CHECK`), which also prints the site as
+               tools/browser_check, :data:`BROWSER_CHECK`), which also prints the site as
                one PDF (tools/pdf_book.py's Printer) from the pages it has loaded and checked
 5. library     pytest on the library and the repository (not the site, not `slow`)
 6. site pages  pytest on the built site but the browser check and the PDF: no external

@@ -1,5 +1,5 @@
 """Names and roles a screen reader needs, on every page (issue 48; checked by axe-core in
-tools/browser_check.py).
+tools/browser_check).
 
 * The navigation sidebar's expand/collapse toggles: pydata-sphinx-theme writes each as a
   ``<summary>`` that holds only a chevron icon (``role="presentation"``), which a screen reader

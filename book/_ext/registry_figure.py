@@ -20,7 +20,7 @@ page):
   serialisers (``python -m fusioncenter compute ID --json`` / ``--csv``);
 - the evidence as a collapsible table;
 - the figure's panel count, width fraction and smallest font in ``data-`` attributes, which
-  ``tools/browser_check.py`` turns into displayed sizes;
+  ``tools/browser_check`` turns into displayed sizes;
 - a smallest displayed width (:func:`legible_width`): on a narrow screen (a phone) the image
   keeps the width at which every panel is ``LEGIBLE_PANEL_PX`` wide and its smallest font
   ``LEGIBLE_FONT_PX`` high, and scrolls sideways in its own box; the caption wraps below it.

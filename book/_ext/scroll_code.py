@@ -4,7 +4,7 @@ Every literal block that is code a reader copies (a code cell's input, a code fe
 prose) gets the class ``fc-scroll-code``; the book's stylesheet (``book/_static/fusioncenter.css``)
 lets exactly those scroll sideways, so that a long line of code keeps its layout. Cell outputs
 (printed results, tables) do not get the class: they wrap, and the browser check
-(``tools/browser_check.py``) fails on any other element whose content is wider than its box.
+(``tools/browser_check``) fails on any other element whose content is wider than its box.
 
 A folded cell (tag ``hide-input``) opens with a one-line comment that says what it does; its
 toggle shows that line ("Show code: the figure's plot code") instead of myst-nb's

@@ -1,8 +1,9 @@
-// Inline formulas wider than their whole line (on a phone: MathJax 3 does not break inline
-// math) get the class fc-wide-math, which makes them scroll sideways in their own box
+// Inline formulas wider than their whole line (on a phone: MathJax 4 breaks inline math at
+// operators, but a formula without a break point, a long subscript or a matrix, can still be
+// wider than the column) get the class fc-wide-math, which makes them scroll sideways in their own box
 // (book/_static/fusioncenter.css) instead of running out of the text column. Measured after
 // MathJax has typeset the page and again whenever the window changes size; at 1280 px no
-// formula of the book needs it (tools/browser_check.py fails on one that does).
+// formula of the book needs it (tools/browser_check fails on one that does).
 (function () {
   "use strict";
   var SELECTOR = "article.bd-article mjx-container:not([display='true'])";

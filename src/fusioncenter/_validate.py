@@ -32,6 +32,8 @@ the input unchanged, not symmetrized), so accepting an input does not change any
   their shapes (instead of NumPy's message).
 * ``received(sent, z, name="z") -> (sent, z)``: measurements that must be finite where a
   sensor sent (ignored, and may be NaN, elsewhere).
+* ``finite_where(mask, values, mismatch=..., missing=...) -> (mask, values)``: the same check
+  with the caller's messages, returning both broadcast together.
 * ``consistent(name, S, rhs, scale)``: a measurement must lie in the range of its singular
   innovation covariance ``S`` (up to 40 standard deviations along its near-zero directions),
   otherwise it contradicts the model (a noise-free sensor measuring a direction the prior
@@ -49,7 +51,7 @@ from fusioncenter._docstrings import Glossary
 __all__ = ["is_text", "as_float", "posint", "integer", "finite", "positive", "nonneg", "one_of",
            "flags", "generator",
            "covariance", "square", "nonempty", "finite_result", "shape_is", "broadcast", "received",
-           "consistent", "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
+           "finite_where", "consistent", "SYMMETRY_RTOL", "PSD_RTOL", "CONSISTENCY_RTOL"]
 
 #: Relative tolerance of the symmetry check of :func:`covariance`: ``|M - M^T| <= SYMMETRY_RTOL
 #: * max |M|`` entrywise.
@@ -418,12 +420,21 @@ def received(sent, z, name: str = "z", *, axis_extra: int = 0) -> tuple[np.ndarr
         raise ValueError(f"sent must hold booleans (or 0/1), got {sent!r}")
     sent = sent.astype(bool)
     z = as_float(name, z)
-    mask = sent.reshape(sent.shape + (1,) * axis_extra)
-    try:
-        mask_b, z_b = np.broadcast_arrays(mask, z)
-    except ValueError:
-        raise ValueError(f"sent and {name} must have shapes that broadcast together, got sent "
-                         f"{sent.shape}, {name} {z.shape}") from None
-    if not np.all(np.isfinite(z_b[mask_b])):
-        raise ValueError(f"{name} must be finite where a sensor sent (a received measurement)")
+    finite_where(sent.reshape(sent.shape + (1,) * axis_extra), z,
+                 mismatch=f"sent and {name} must have shapes that broadcast together, got sent "
+                 f"{sent.shape}, {name} {z.shape}",
+                 missing=f"{name} must be finite where a sensor sent (a received measurement)")
     return sent, z
+
+
+def finite_where(mask, values, *, mismatch: str, missing: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(mask, values)`` broadcast together, ``values`` finite where ``mask`` is true (a received
+    measurement; anything, NaN included, elsewhere). ``ValueError(mismatch)`` if the shapes do
+    not broadcast, ``ValueError(missing)`` if a received value is NaN or infinite."""
+    try:
+        mask_b, values_b = np.broadcast_arrays(mask, values)
+    except ValueError:
+        raise ValueError(mismatch) from None
+    if not np.all(np.isfinite(values_b[mask_b])):
+        raise ValueError(missing)
+    return mask_b, values_b

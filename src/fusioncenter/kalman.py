@@ -2,7 +2,7 @@
 
 The library's linear-Gaussian vocabulary (shared with :mod:`fusioncenter.riccati`,
 :mod:`fusioncenter.particle`, :mod:`fusioncenter.models`, :mod:`fusioncenter.event` and
-:mod:`fusioncenter.synthesis`; the letters of mo2015, dey2009 and leong2011):
+:mod:`fusioncenter.comparison`; the letters of mo2015, dey2009 and leong2011):
 ``x_0 ~ N(m0, P0)``, ``x_{k+1} = A x_k + w_k``, ``w ~ N(0, Q)``, ``y_k = C x_k + v_k``,
 ``v ~ N(0, R)``. zheng2014 writes ``F`` for ``A`` and ``H`` for ``C``: those names are kept as
 read-only aliases where a public class uses them (``LinearGaussianModel.F`` / ``.H``,
@@ -12,7 +12,7 @@ The filter starts from the prior ``(m0, P0)`` as its prediction for ``k = 0``; a
 trajectories are shaped ``(trials, steps + 1, dim)``.
 
 Every Kalman-filter loop of the library (:meth:`LinearGaussianModel.filter`,
-:func:`fusioncenter.event.event_kf_run`, :func:`fusioncenter.synthesis.kf_filter`) advances
+:func:`fusioncenter.event.event_kf_run`, :func:`fusioncenter.comparison.kf_filter`) advances
 with :func:`kalman_step`: a measurement update with the step's own ``C_k`` and ``R_k`` followed
 by a time update. Event-triggered measurements, lost packets and censoring are expressed
 through them: a sensor that is dropped is a zero row of ``C_k``, a silent sensor that is used

@@ -39,7 +39,17 @@ DEFAULT_BLOCK_SIZE = 256
 
 class PerTrial:
     """What results keeping per-trial ``samples`` (first axis: the trials) of :func:`simulate`
-    share; the ``seed`` and ``block_size`` that drew them identify the trials."""
+    share; the ``seed`` and ``block_size`` that drew them identify the trials.
+
+    Attributes
+    ----------
+    samples : numpy.ndarray
+        The per-trial results, shaped ``(n_trials, ...)``.
+    seed : int
+        The seed of :func:`simulate` that drew them.
+    block_size : int
+        The trials per random stream of that run.
+    """
 
     samples: np.ndarray
     seed: int

@@ -1,4 +1,4 @@
-"""The accessibility check of tools/browser_check.py (axe-core, issue 48) sees violations.
+"""The accessibility check of tools/browser_check (axe-core, issue 48) sees violations.
 
 Small pages, no built site: each is loaded in the check's headless Chromium and checked by the
 same function as every page of the site (:func:`browser_check.axe_violations`), in the light
@@ -7,7 +7,6 @@ and the dark colours of pydata-sphinx-theme (``data-theme`` on ``<html>``).
 
 from __future__ import annotations
 
-import importlib.util
 import sys
 from pathlib import Path
 
@@ -18,16 +17,9 @@ ROOT = Path(__file__).resolve().parents[2]
 pytestmark = pytest.mark.site
 
 
-def _load_browser_check():
-    spec = importlib.util.spec_from_file_location(
-        "browser_check", ROOT / "tools" / "browser_check.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("browser_check", module)
-    spec.loader.exec_module(module)
-    return module
-
-
-bc = _load_browser_check()
+sys.path.insert(0, str(ROOT / "tools"))
+import browser_check as bc  # noqa: E402  (tools/ is not a package)
+from headless import launch  # noqa: E402
 
 #: a sidebar toggle as pydata-sphinx-theme writes it: an icon, no name
 TOGGLE = ('<details><summary><span class="toctree-toggle" role="presentation"><i class="fa">'
@@ -50,7 +42,7 @@ def page():
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as pw:
-        browser = bc._launch(pw)
+        browser = launch(pw)
         context = browser.new_context(viewport=bc.VIEWPORT)
         yield context.new_page()
         browser.close()

@@ -1,5 +1,5 @@
 """An explorable figure on a static page (book/_ext/explorable.py, issue 47) moves with the
-keyboard, and the browser check (tools/browser_check.py, ``_check_explorables``) sees one that
+keyboard, and the browser check (tools/browser_check, ``check_explorables``) sees one that
 does not.
 
 A small page, no built site: the directive's own HTML (``explorable._controls``) with three
@@ -36,7 +36,10 @@ def _load(name: str, path: Path):
 
 
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
-bc = _load("browser_check", ROOT / "tools" / "browser_check.py")
+sys.path.insert(0, str(ROOT / "tools"))
+import browser_check as bc  # noqa: E402
+from headless import launch  # noqa: E402
+
 explorable = _load("explorable", ROOT / "book" / "_ext" / "explorable.py")
 
 
@@ -97,7 +100,7 @@ def serve():
         return page
 
     with sync_playwright() as pw:
-        browser = bc._launch(pw)
+        browser = launch(pw)
         yield run
         browser.close()
     for server in servers:
@@ -107,7 +110,7 @@ def serve():
 def test_the_arrow_key_moves_the_figure_its_value_and_its_caption(serve, tmp_path):
     page = serve(_site(tmp_path, [1, 2, 3]))
     res = bc.PageResult("index.html")
-    bc._check_explorables(page, res)
+    bc.check_explorables(page, res)
     assert res.problems == [] and (res.explorables, res.explorables_moved) == (1, 1)
     page.locator("input.fc-explore-slider").focus()
     page.keyboard.press("ArrowRight")
@@ -132,6 +135,6 @@ def test_print_shows_the_small_multiples_and_no_control(serve, tmp_path):
 def test_the_check_sees_a_figure_that_does_not_move(serve, tmp_path, values, script, problem):
     page = serve(_site(tmp_path, values, script=script))
     res = bc.PageResult("index.html")
-    bc._check_explorables(page, res)
+    bc.check_explorables(page, res)
     assert res.explorables_moved == 0
     assert any(problem in p for p in res.problems), res.problems

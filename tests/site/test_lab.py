@@ -58,7 +58,7 @@ def _rendered_cells(tmp_path: Path) -> tuple[list[str], int, int]:
     from playwright.sync_api import sync_playwright
 
     sys.path.insert(0, str(ROOT / "tools"))
-    from browser_check import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY
+    from headless import CHROMIUM, CHROMIUM_ARGS, LOOPBACK_ONLY
 
     lab_bin = Path(sys.executable).parent / "jupyter-lab"
     if not lab_bin.exists():

@@ -2,7 +2,7 @@
 
 Checks of the built site (``$FUSIONCENTER_SITE``, default the fast build), of the book's sources
 and of the detectors themselves (so that a check that cannot fail is noticed). The clipped-content
-measurement runs in ``tools/browser_check.py``
+measurement runs in ``tools/browser_check``
 (``test_site.py::test_browser_check_of_every_page``).
 """
 
@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import functools
 import http.server
-import importlib.util
 import re
 import socketserver
 import sys
@@ -30,16 +29,9 @@ PART_INDEXES = ["book/mo2015/index", "book/dey2009/index", "book/leong2011/index
                 "book/zheng2014/index"]
 
 
-def _browser_check():
-    spec = importlib.util.spec_from_file_location("browser_check",
-                                                  ROOT / "tools" / "browser_check.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("browser_check", module)
-    spec.loader.exec_module(module)
-    return sys.modules["browser_check"]
-
-
-bc = _browser_check()
+sys.path.insert(0, str(ROOT / "tools"))
+import browser_check as bc  # noqa: E402
+from headless import launch  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -168,7 +160,7 @@ def search(site: Path):
     threading.Thread(target=server.serve_forever, daemon=True).start()
     base = f"http://127.0.0.1:{server.server_address[1]}/"
     with sync_playwright() as pw:
-        browser = bc._launch(pw)
+        browser = launch(pw)
         page = browser.new_page()
 
         def run(query: str) -> list[str]:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import functools
 import http.client
-import importlib.util
 import os
 import re
 import shutil
@@ -203,12 +202,10 @@ def test_no_external_resources(site: Path) -> None:
 
 
 def _load_browser_check():
-    spec = importlib.util.spec_from_file_location(
-        "browser_check", ROOT / "tools" / "browser_check.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("browser_check", module)  # dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    sys.path.insert(0, str(ROOT / "tools"))
+    import browser_check
+
+    return browser_check
 
 
 #: ``make test``: print the book's PDF there from the browser check's page loads
@@ -249,7 +246,7 @@ ICON = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 2 2">'
 
 def test_browser_check_with_two_browsers_reports_what_one_does(tmp_path: Path) -> None:
     """The browsers that check the pages side by side (``--part`` children of
-    tools/browser_check.py) report every page and problem that one browser reports, in the
+    tools/browser_check) report every page and problem that one browser reports, in the
     same order, and a child that cannot run fails the check."""
     browser_check = _load_browser_check()
     (tmp_path / "icon.svg").write_text(ICON)
@@ -329,7 +326,7 @@ def test_browser_check_caches_static_files_and_still_checks_every_pages_fonts(
     assert fonts
 
     served: list[tuple[str, str]] = []
-    handler = browser_check._QuietHandler
+    from browser_check.driver import CachingHandler as handler
     orig = handler.end_headers
 
     def spy(self) -> None:
@@ -351,7 +348,9 @@ def test_browser_check_caches_static_files_and_still_checks_every_pages_fonts(
     assert sum(1 for p, _ in served if p.endswith(("/a.html", "/b.html"))) == 2
 
     # the headers themselves: pages and failures never kept, a static file kept
-    server = browser_check._Server(("127.0.0.1", 0), functools.partial(
+    from headless import LoopbackServer
+
+    server = LoopbackServer(("127.0.0.1", 0), functools.partial(
         handler, directory=str(tmp_path)))
     threading.Thread(target=server.serve_forever, daemon=True).start()
     try:

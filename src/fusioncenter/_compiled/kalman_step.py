@@ -2,7 +2,7 @@
 
 The per-step kernel of the library's Kalman-filter loops (:meth:`fusioncenter.kalman.
 LinearGaussianModel.filter`, :func:`fusioncenter.event.event_kf_run`,
-:func:`fusioncenter.synthesis.kf_filter`), whose shapes are fixed and checked once at entry.
+:func:`fusioncenter.comparison.kf_filter`), whose shapes are fixed and checked once at entry.
 The public, checked step is :func:`fusioncenter.kalman.kalman_step`; it calls this one, so a
 valid call gives the same bits either way. NumPy, not numba: it is a kernel by its place (the
 inner step of the loops, inputs checked by its callers), and its matrices are small.

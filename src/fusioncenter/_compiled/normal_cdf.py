@@ -9,7 +9,7 @@ same C library. So it returns SciPy's numbers exactly; ``tests/test_kernels.py``
 two on millions of points over the whole range, on the branch boundaries and on the special
 values (``nan``, ``+-inf``, ``+-0``, subnormals).
 
-:func:`inside_difference` is the probability of :func:`fusioncenter.censoring._probability_core
+:func:`inside_difference` is the probability of :func:`fusioncenter._compiled.censored_normal
 .log_prob_inside` (``Phi(h - |m|) - Phi(-h - |m|)``) in one pass over the particles, without the
 three temporary arrays of the NumPy expression: the two ``ndtr`` of CFwMD2's silent factor (its
 threshold differs per trial, so no table serves it) and of every scalar filter's exact one.

@@ -46,11 +46,11 @@ import math
 import numpy as np
 from scipy import special
 
-from fusioncenter._compiled import ellipse_tables
+from fusioncenter._compiled import censored_normal, ellipse_tables
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _probability_core, scenarios
 from fusioncenter.censoring import probability as cprob
+from fusioncenter.censoring import scenarios
 from fusioncenter.censoring.checks import (
     check_cholesky,
     check_eta,
@@ -151,7 +151,7 @@ def log_inside_1d(b, a):
     """
     check_offsets(("a",), b=b, a=a)
     b, a = np.broadcast_arrays(np.asarray(b, dtype=float), np.asarray(a, dtype=float))
-    return _probability_core.log_prob_inside(b, a)
+    return censored_normal.log_prob_inside(b, a)
 
 
 def _log_theta_integrand(th_s, th_c, b1, b2, a1, a2):
@@ -308,7 +308,7 @@ def _split_singular(mean, cov, singular, eta, name):
     if not sing.all():
         A, asc = canonical_map(np.broadcast_to(np.eye(m), cov[~sing].shape), cov[~sing])
         out[~sing] = _log_in_ellipse(A, _resolvable(name, asc), mean[~sing], eta)
-    out[sing] = _probability_core.log_inside_degenerate(mean[sing], cov[sing], eta)
+    out[sing] = censored_normal.log_inside_degenerate(mean[sing], cov[sing], eta)
     return out[()] if out.ndim == 0 else out
 
 

@@ -11,15 +11,9 @@ import math
 import numpy as np
 
 from fusioncenter import particle
-from fusioncenter._compiled import log_table, transitions, ziggurat
-from fusioncenter.censoring import _decisions
-from fusioncenter.censoring._probability_core import (
-    log_gauss,
-    log_prob_inside,
-    log_region_probability,
-    log_silent_constant,
-    truncated_normal,
-)
+from fusioncenter._compiled import censoring_decisions, log_table, transitions, ziggurat
+from fusioncenter._compiled.bivariate_normal import log_region_probability, log_silent_constant
+from fusioncenter._compiled.censored_normal import log_gauss, log_prob_inside, truncated_normal
 from fusioncenter.censoring.likelihood import no_feedback_region
 from fusioncenter.censoring.scenarios import LinearScenario
 from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
@@ -386,8 +380,9 @@ class LinearFusionCentre:
         else:
             s = self.local["s"][k]
         # nu * nu >= eta * s, nu = z - hx, in one compiled pass (the same floats)
-        _decisions.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
-                                    s if s.ndim == 2 else s[None, :], self.eta, self.sent)
+        censoring_decisions.censor_decisions(self.z, k, self.pred_mean @ self.H.T,
+                                             s if s.ndim == 2 else s[None, :], self.eta,
+                                             self.sent)
         return s
 
     # --- log weights at step k (additive per-row constants dropped)
@@ -406,9 +401,9 @@ class LinearFusionCentre:
             # the sum over the received sensors of log N(z_i; y, r) is -n (y - zbar)^2 / (2 r)
             # plus a constant per trial (centred: no cancellation however large the
             # positions); gauss = (zbar, -n / (2 r), add): written or added in one compiled pass
-            if g.size <= _decisions.GROUP_SUM_MAX:  # zbar, n and the silent count: one call
-                n_any, n_silent = _decisions.group_stats(self.sent, self.z, k, g, -0.5 / rg,
-                                                         self._zbar, self._gcoef, self._nsil)
+            if g.size <= censoring_decisions.GROUP_SUM_MAX:  # zbar, n, silent count: one call
+                n_any, n_silent = censoring_decisions.group_stats(
+                    self.sent, self.z, k, g, -0.5 / rg, self._zbar, self._gcoef, self._nsil)
                 gauss = (self._zbar, self._gcoef, started) if n_any else None
                 silent = (self._nsil, None) if n_silent and self.uses_silence else None
             else:  # NumPy's pairwise sum of 8 or more sensors

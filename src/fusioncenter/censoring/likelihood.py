@@ -6,18 +6,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from fusioncenter._compiled import censored_normal
+from fusioncenter._compiled.bivariate_normal import log_region_probability, log_silent_constant
 from fusioncenter._validate import broadcast as _broadcast
 from fusioncenter._validate import covariance as _covariance
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import positive as _positive
 from fusioncenter._validate import received as _received
-from fusioncenter.censoring._probability_core import log_gauss as _log_gauss
-from fusioncenter.censoring._probability_core import (
-    log_region_probability,
-    log_silent_constant,
-    prob_inside,
-)
 
 
 # ----------------------------------------------------------------------------- likelihoods
@@ -40,8 +36,39 @@ def log_gauss(z, mean, r):
         If ``z`` or ``mean`` is not finite, or ``r`` is not a positive finite variance.
     """
     z, mean = _finite("z", z), _finite("mean", mean)
-    return _log_gauss(z, mean, _positive("r", r))
+    return censored_normal.log_gauss(z, mean, _positive("r", r))
 
+
+def check_feedback_arguments(sent, z, hx, hx_pred, s, r, eta) -> tuple:
+    """The arguments of a likelihood with feedback, checked and converted: those of
+    :func:`log_likelihood_feedback` (Propositions 1-2) and of
+    :func:`fusioncenter.censoring.nonlinear.log_likelihood` (Propositions 7-8).
+
+    Parameters
+    ----------
+    sent, z, hx, hx_pred, s, r, eta : array_like
+        As in :func:`log_likelihood_feedback` (``eta`` a number).
+
+    Returns
+    -------
+    tuple
+        ``(sent, z, hx, hx_pred, s, r, eta)``: ``sent`` as bool, ``eta`` as a float, the others
+        as float arrays (not broadcast).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument that is not finite (``z`` only where a sensor sent), negative
+        (``r``: not positive), or whose shape does not broadcast with the others.
+    """
+    sent, z = _received(sent, z)
+    hx = _finite("hx", hx)
+    hx_pred = _finite("hx_pred", hx_pred)
+    r = _positive("r", r)
+    s = _nonneg("s", s, "a variance")
+    eta = float(_nonneg("eta", eta, "a threshold"))
+    _broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
+    return sent, z, hx, hx_pred, s, r, eta
 
 
 def log_likelihood_feedback(sent, z, hx, hx_pred, s, r, eta):
@@ -76,20 +103,14 @@ def log_likelihood_feedback(sent, z, hx, hx_pred, s, r, eta):
     Raises
     ------
     ValueError
-        Naming the argument that is not finite (``z`` only where a sensor sent), negative,
-        or whose shape does not broadcast with the others.
+        From :func:`check_feedback_arguments`, which checks the arguments.
     """
-    sent, z = _received(sent, z)
-    hx = _finite("hx", hx)
-    hx_pred = _finite("hx_pred", hx_pred)
-    r = _positive("r", r)
-    s = _nonneg("s", s)
-    eta = float(_nonneg("eta", eta))
-    _broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
-    recv = np.where(sent, _log_gauss(np.where(sent, z, 0.0), hx, r), 0.0)
+    sent, z, hx, hx_pred, s, r, eta = check_feedback_arguments(sent, z, hx, hx_pred, s, r, eta)
+    recv = np.where(sent, censored_normal.log_gauss(np.where(sent, z, 0.0), hx, r), 0.0)
     sd = np.sqrt(r)
     with np.errstate(invalid="ignore"):
-        sil = np.where(sent, 0.0, prob_inside((hx - hx_pred) / sd, np.sqrt(eta * s) / sd, log=True))
+        sil = np.where(sent, 0.0, censored_normal.prob_inside((hx - hx_pred) / sd,
+                                                              np.sqrt(eta * s) / sd, log=True))
     return (recv + sil).sum(axis=-1)
 
 
@@ -140,7 +161,8 @@ def log_likelihood_no_feedback(sent, z, hx, C, r, eta, *, version: str = "correc
         raise ValueError(f"the corrected no-feedback likelihood is implemented for N <= 2 "
                          f"sensors (a bivariate normal probability), got N = {N}")
     sent, z, hx = _broadcast(sent=sent, z=z, hx=hx)
-    recv = np.where(sent, _log_gauss(np.where(sent, z, 0.0), hx, r), 0.0).sum(axis=-1)
+    recv = np.where(sent, censored_normal.log_gauss(np.where(sent, z, 0.0), hx, r),
+                    0.0).sum(axis=-1)
     region = no_feedback_region(sent, z, hx[..., None, :], C, r, eta, version)[..., 0]
     return recv + region
 

@@ -55,11 +55,12 @@ import numpy as np
 
 from fusioncenter import _validate as _v
 from fusioncenter import montecarlo, particle
-from fusioncenter._compiled import amplitude_terms
+from fusioncenter._compiled import amplitude_ekf, amplitude_terms, censored_normal
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _nonlinear_core, _probability_core, fusion, results, scenarios
+from fusioncenter.censoring import fusion, results, scenarios
 from fusioncenter.censoring import probability as cprob
+from fusioncenter.censoring.likelihood import check_feedback_arguments
 from fusioncenter.censoring.nonlinear_model import (
     NonlinearScenario,
     amplitude,  # noqa: F401 (re-exported)
@@ -77,9 +78,6 @@ FEEDBACK = ("state", "state+cov", "none")
 
 
 # ----------------------------------------------------------------------------- likelihood
-_R2 = 1.0 / math.sqrt(2.0)
-
-
 def log_silent_probability(m, h):
     """``log P(|Z + m| < h)`` for ``Z ~ N(0, 1)``, ``h >= 0``: a silent sensor's factor.
 
@@ -105,18 +103,7 @@ def log_silent_probability(m, h):
         If ``m`` is not finite, ``h`` is NaN or negative (a half-width), or the shapes do not
         broadcast.
     """
-    m = _v.finite("m", m)
-    h = _v.as_float("h", h)
-    if np.any(np.isnan(h)) or np.any(h < 0):
-        raise ValueError(f"h must be a non-negative half-width (a threshold; +inf allowed), "
-                         f"got {h!r}")
-    return _log_silent(*_v.broadcast(m=m, h=h))
-
-
-def _log_silent(m, h):
-    """:func:`log_silent_probability` without checks (the filters' own calls)."""
-    m, h = np.broadcast_arrays(np.asarray(m, dtype=float), np.asarray(h, dtype=float))
-    return _probability_core.log_prob_inside(m, h)
+    return cprob.log_prob_inside(m, h)
 
 
 def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
@@ -142,29 +129,24 @@ def log_likelihood(sent, z, hx, hx_pred, s, r, eta, scheme: str = "cfwmd"):
     Returns
     -------
     numpy.ndarray
-        The log likelihood ``(...)``.
+        ``log p(z_obs, m | x, broadcast)`` ``(...)`` (the received sensors' terms only for
+        ``"cfomd"``).
 
     Raises
     ------
     ValueError
-        Naming the argument that is not finite (``z`` only where a sensor sent), negative,
-        of non-matching shape, or an unknown ``scheme``.
+        For an unknown ``scheme``, or from
+        :func:`~fusioncenter.censoring.likelihood.check_feedback_arguments`.
     """
     if scheme not in ("cfwmd", "cfomd"):
         raise ValueError(f"scheme must be 'cfwmd' or 'cfomd', got {scheme!r}")
-    sent, z = _v.received(sent, z)
-    hx = _v.finite("hx", hx)
-    hx_pred = _v.finite("hx_pred", hx_pred)
-    r = _v.positive("r", r)
-    s = _v.nonneg("s", s, "a variance")
-    eta = float(_v.nonneg("eta", eta, "a threshold"))
-    _v.broadcast(sent=sent, z=z, hx=hx, hx_pred=hx_pred, s=s, r=r)
+    sent, z, hx, hx_pred, s, r, eta = check_feedback_arguments(sent, z, hx, hx_pred, s, r, eta)
     recv = np.where(sent, -0.5 * np.log(2 * np.pi * r) - 0.5 * (np.where(sent, z, 0.0) - hx)
                     ** 2 / r, 0.0)
     out = recv.sum(axis=-1)
     if scheme == "cfwmd":
         sd = np.sqrt(r)
-        sil = _log_silent((hx - hx_pred) / sd, np.sqrt(eta * s) / sd)
+        sil = censored_normal.log_prob_inside((hx - hx_pred) / sd, np.sqrt(eta * s) / sd)
         out = out + np.where(sent, 0.0, sil).sum(axis=-1)
     return out
 
@@ -229,7 +211,7 @@ def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray
     direct = J > max(64, P // 4)
     if direct.any():
         db, di = rb[direct], ri[direct]
-        a[db, di] = _log_silent(a[db, di], h[direct][:, None])
+        a[db, di] = censored_normal.log_prob_inside(a[db, di], h[direct][:, None])
     tab = np.flatnonzero(~direct)
     if tab.size == 0:
         return
@@ -239,7 +221,7 @@ def _silent_rows(a: np.ndarray, rb: np.ndarray, ri: np.ndarray, amax: np.ndarray
     node = np.arange(owner.size) - off[owner]
     an = node * step
     hn = h[tab][owner]
-    g = _log_silent(an, hn)
+    g = censored_normal.log_prob_inside(an, hn)
     with np.errstate(over="ignore", under="ignore"):
         dg = (np.exp(-0.5 * (hn + an) ** 2 - _LOG_SQRT_2PI - g)
               - np.exp(-0.5 * (hn - an) ** 2 - _LOG_SQRT_2PI - g)) * step
@@ -294,13 +276,13 @@ class _FusionCentre(fusion.ReferenceFC):
         """Decisions at step ``k + 1`` from the broadcast ``xhat_{k|k}`` (and ``Phat_{k|k}``)."""
         sc = self.sc
         xp = self.est @ sc.F.T  # xhat_{k+1|k}, every sensor's prediction
-        g = _nonlinear_core.jacobian(sc, xp)  # (n, N, 4)
+        g = amplitude_ekf.jacobian(sc, xp)  # (n, N, 4)
         if self.feedback == "state":
-            _, s, self.P_loc = _nonlinear_core.ekf_step(self.P_loc, g, sc.F, sc.Q, self.r)
+            _, s, self.P_loc = amplitude_ekf.ekf_step(self.P_loc, g, sc.F, sc.Q, self.r)
         else:
             Pp = sc.F @ self.est_cov @ sc.F.T + sc.Q  # (n, 4, 4)
             s = np.einsum("nik,nkl,nil->ni", g, Pp, g) + self.r
-        self.hx_pred = _nonlinear_core.amplitude(sc, xp[:, [0, 2]])  # (n, N)
+        self.hx_pred = amplitude_ekf.amplitude(sc, xp[:, [0, 2]])  # (n, N)
         nu = self.z[:, k] - self.hx_pred
         self.sent[:, k] = nu * nu >= self.eta * s
         self.s[:, k] = s
@@ -346,7 +328,7 @@ class _FusionCentre(fusion.ReferenceFC):
         dy = x[b, :, 2] - self.pos[i, 1][:, None]
         dy *= dy
         d2 += dy
-        e = _nonlinear_core.amplitude_from_d2(self.sc, d2)
+        e = amplitude_ekf.amplitude_from_d2(self.sc, d2)
         e -= self.z[b, k, i][:, None]
         e *= e
         e *= (-0.5 / self.r[i])[:, None]
@@ -372,7 +354,7 @@ class _FusionCentre(fusion.ReferenceFC):
         d2 = np.empty((n, self.N, P))
         for i in range(self.N):
             np.add(dx2[:, ix[i]], dy2[:, iy[i]], out=d2[:, i])
-        return _nonlinear_core.amplitude_from_d2(self.sc, d2)
+        return amplitude_ekf.amplitude_from_d2(self.sc, d2)
 
     def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
         self.est = mean

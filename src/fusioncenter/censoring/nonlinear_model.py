@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fusioncenter import _validate as _v
+from fusioncenter._compiled import amplitude_ekf
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _nonlinear_core as _core
 from fusioncenter.censoring import scenarios
 
 
@@ -155,6 +155,7 @@ class NonlinearScenario(scenarios.Scenario):
     # scenarios.Scenario)
     @property
     def N(self) -> int:
+        """Number of sensors."""
         return self._cache["N"]
 
     @property
@@ -164,6 +165,7 @@ class NonlinearScenario(scenarios.Scenario):
 
     @property
     def rvec(self) -> np.ndarray:
+        """Measurement noise variances, one per sensor ``(N,)``."""
         return np.broadcast_to(np.asarray(self.r, dtype=float), (self.N,)).copy()
 
     position_index = (0, 2)
@@ -218,12 +220,28 @@ class NonlinearScenario(scenarios.Scenario):
 
     # --- simulation
     def sample(self, rng: np.random.Generator, n: int):
-        """Truth and measurements of ``n`` trials: ``x (n, T+1, 4)`` (``x[:, 0] = x_0``), ``z (n,
-        T, N)`` (``z[:, k-1]`` measured at step ``k``). Draws ``x_0`` (if ``initial_truth`` is
-        ``"random"``), then ``T`` transitions, then all measurement noises."""
+        """Truth and measurements of ``n`` trials.
+
+        Draws ``x_0`` (if ``initial_truth`` is ``"random"``), then ``T`` transitions, then all
+        measurement noises.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The source of the draws.
+        n : int
+            Number of trials.
+
+        Returns
+        -------
+        x : numpy.ndarray
+            True states ``(n, T+1, 4)``, ``x[:, 0] = x_0``.
+        z : numpy.ndarray
+            Measurements ``(n, T, N)``, ``z[:, k-1]`` measured at step ``k``.
+        """
         x = self._truth(rng, n, draw_x0=self.initial_truth == "random")
         noise = rng.standard_normal((n, self.T, self.N)) * np.sqrt(self.rvec)
-        z = _core.amplitude(self, x[:, 1:, [0, 2]]) + noise
+        z = amplitude_ekf.amplitude(self, x[:, 1:, [0, 2]]) + noise
         return x, z
 
 
@@ -243,7 +261,7 @@ def amplitude_from_d2(sc: NonlinearScenario, d2):
     numpy.ndarray
         The amplitudes (the array ``d2``).
     """
-    return _core.amplitude_from_d2(sc, d2)
+    return amplitude_ekf.amplitude_from_d2(sc, d2)
 
 
 def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
@@ -270,7 +288,7 @@ def amplitude(scenario: NonlinearScenario, pos) -> np.ndarray:
     if np.isnan(pos).any():
         raise ValueError(f"pos must not be NaN (a position; +-inf is a target infinitely far "
                          f"away, amplitude 0), got {pos!r}")
-    return _core.amplitude(scenario, pos)
+    return amplitude_ekf.amplitude(scenario, pos)
 
 
 def jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
@@ -297,7 +315,7 @@ def jacobian(scenario: NonlinearScenario, x) -> np.ndarray:
     ValueError
         If ``x`` is not finite or does not end in an axis of length 4.
     """
-    return _core.jacobian(scenario, _v.finite("x", x))
+    return amplitude_ekf.jacobian(scenario, _v.finite("x", x))
 
 
 def ekf_covariance_step(P, g, F, Q, r):
@@ -341,7 +359,7 @@ def ekf_covariance_step(P, g, F, Q, r):
     r = _v.nonneg("r", r, "a noise variance")
     _v.broadcast(P=P[..., 0, 0], g=g[..., 0], r=r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        Pp, s, Pu = _core.ekf_step(P, g, F, Q, r)
+        Pp, s, Pu = amplitude_ekf.ekf_step(P, g, F, Q, r)
     known = s == 0
     if np.any(known):  # no information: w = 0, P_upd = P_pred (symmetrized as the kernel does)
         Pu = np.where(known[..., None, None], 0.5 * (Pp + np.swapaxes(Pp, -1, -2)), Pu)
@@ -381,9 +399,9 @@ def local_ekf(scenario: NonlinearScenario, z) -> dict[str, np.ndarray]:
     out.update({k: np.empty((n, T, N)) for k in ("s", "nu")})
     for t in range(T):
         xp = xh @ F.T
-        g = _core.jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
-        Pp, s, P = _core.ekf_step(P, g, F, Q, r)
-        nu = z[:, t] - _core.amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
+        g = amplitude_ekf.jacobian(sc, xp)[:, idx, idx]  # sensor i's gradient at its own prediction
+        Pp, s, P = amplitude_ekf.ekf_step(P, g, F, Q, r)
+        nu = z[:, t] - amplitude_ekf.amplitude(sc, xp[..., [0, 2]])[:, idx, idx]
         xh = xp + (Pp @ g[..., None])[..., 0] * (nu / s)[..., None]
         out["x_pred"][:, t], out["P_pred"][:, t], out["s"][:, t] = xp, Pp, s
         out["nu"][:, t], out["x_upd"][:, t], out["P_upd"][:, t] = nu, xh, P

@@ -7,7 +7,8 @@ scalar, nonlinear and lossy-link filters share, with one cut-off); the sensor-le
 probabilities; ``log_region_probability`` (the region of the corrected Proposition 3);
 ``log_silent_constant``; ``truncated_normal`` (inverse-cdf draws). The functions here check
 their arguments; the filters call the same computations unchecked, in
-:mod:`fusioncenter.censoring._probability_core`."""
+:mod:`fusioncenter._compiled.censored_normal` (one normal variable) and
+:mod:`fusioncenter._compiled.bivariate_normal` (two, and the regions of Proposition 3)."""
 
 from __future__ import annotations
 
@@ -17,11 +18,12 @@ import numpy as np
 import scipy.stats
 
 from fusioncenter import _validate as _v
+from fusioncenter._compiled import bivariate_normal, censored_normal
+from fusioncenter._docstrings import Glossary
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import nonneg as _nonneg
 from fusioncenter._validate import posint as _posint
 from fusioncenter._validate import positive as _positive
-from fusioncenter.censoring import _probability_core as _core
 
 
 # ----------------------------------------------------------------------------- threshold
@@ -64,7 +66,7 @@ def threshold(l, N, dof: int = 1) -> float:
 # ----------------------------------------------------------------------------- censored probability
 #: Below this probability :func:`log_prob_inside` switches from the difference of two normal
 #: distribution functions to the careful :func:`prob_inside` (one cut-off for every filter).
-INSIDE_CUTOFF = _core.INSIDE_CUTOFF
+INSIDE_CUTOFF = censored_normal.INSIDE_CUTOFF
 
 
 def _censored_args(mu, s, r, eta):
@@ -97,7 +99,7 @@ def censored_probability(mu, s, r, eta):
         The probabilities, in ``[0, 1]``.
     """
     m, h = _censored_args(mu, s, r, eta)
-    out = _core.prob_inside(m, h, log=False)
+    out = censored_normal.prob_inside(m, h, log=False)
     return out[()] if out.ndim == 0 else out
 
 
@@ -128,39 +130,44 @@ def log_censored_probability(mu, s, r, eta):
         The log probabilities (``<= 0``).
     """
     m, h = _censored_args(mu, s, r, eta)
-    out = _core.prob_inside(m, h, log=True)
+    out = censored_normal.prob_inside(m, h, log=True)
     return out[()] if out.ndim == 0 else out
 
 
 # ----------------------------------------------------------------------------- bivariate normal
 #: Below this value the inclusion-exclusion of Owen's-T distribution functions (absolute accuracy
 #: ~1e-16) is replaced by a quadrature in the log domain (see :func:`log_bivariate_rectangle`).
-CAREFUL_BELOW = _core.CAREFUL_BELOW
+CAREFUL_BELOW = bivariate_normal.CAREFUL_BELOW
 #: Below ``|rho| = 1 - RHO_DEGENERATE`` the quadrature resolves the conditional law of ``Y``.
-RHO_DEGENERATE = _core.RHO_DEGENERATE
+RHO_DEGENERATE = bivariate_normal.RHO_DEGENERATE
+
+#: The arguments of the bivariate probabilities, and what they raise.
+_bivariate = Glossary("""
+h, k : array_like
+    Upper bounds (``-inf`` / ``inf`` allowed), broadcast together.
+l1, u1, l2, u2 : array_like
+    Bounds (``-inf`` / ``inf`` allowed), broadcast together; an empty interval (``u <= l``) has
+    probability 0.
+rho : array_like
+    Correlation in ``[-1, 1]``.
+""", raises="""
+ValueError
+    Naming the bound that is text or NaN, or if ``rho`` is NaN or outside ``[-1, 1]``.
+""")
 
 
+@_bivariate(returns=("numpy.ndarray", "The probabilities, in ``[0, 1]`` (a float for scalar "
+                     "inputs)."),
+            raises=(("ValueError", "If ``h``, ``k`` or ``rho`` is NaN, or ``|rho| > 1``."),))
 def bivariate_normal_cdf(h, k, rho):
     """``P(X <= h, Y <= k)`` for a standard bivariate normal with correlation ``rho``.
 
     Owen's T formula (absolute accuracy ~1e-16,
-    :func:`fusioncenter.censoring._probability_core.cdf_owen`) where the probability is at
+    :func:`fusioncenter._compiled.bivariate_normal.cdf_owen`) where the probability is at
     least :data:`CAREFUL_BELOW`; below, ``exp`` of :func:`log_bivariate_rectangle`
     ``(-inf, h, -inf, k)``, relative accuracy ~1e-12 down to ~1e-300.
-
-    Parameters
-    ----------
-    h, k : array_like
-        Upper bounds (``-inf`` / ``inf`` allowed), broadcast together.
-    rho : array_like
-        Correlation in ``[-1, 1]``.
-
-    Returns
-    -------
-    numpy.ndarray
-        The probabilities, in ``[0, 1]`` (a float for scalar inputs).
     """
-    out = _core.cdf_owen(h, k, rho)
+    out = bivariate_normal.cdf_owen(h, k, rho)
     small = np.atleast_1d(out < CAREFUL_BELOW)
     if small.any():
         out = np.atleast_1d(np.array(out, dtype=float))
@@ -173,31 +180,15 @@ def bivariate_normal_cdf(h, k, rho):
     return out
 
 
+@_bivariate(returns=("numpy.ndarray", "The probabilities, in ``[0, 1]``."))
 def bivariate_rectangle(l1, u1, l2, u2, rho):
     """``P(l1 < X < u1, l2 < Y < u2)`` for a standard bivariate normal, correlation ``rho``.
 
     ``exp`` of :func:`log_bivariate_rectangle`: relative accuracy ~1e-12 wherever the result is
     above ~1e-300 (below, it underflows: use the log version).
-
-    Parameters
-    ----------
-    l1, u1, l2, u2 : array_like
-        Bounds (``-inf`` / ``inf`` allowed), broadcast together.
-    rho : array_like
-        Correlation in ``[-1, 1]``.
-
-    Returns
-    -------
-    numpy.ndarray
-        The probabilities, in ``[0, 1]``.
-
-    Raises
-    ------
-    ValueError
-        Naming the bound that is text or NaN, or if ``rho`` is NaN or outside ``[-1, 1]``.
     """
     _no_nan_bounds(l1=l1, u1=u1, l2=l2, u2=u2)
-    return _core.bivariate_rectangle(l1, u1, l2, u2, rho)
+    return bivariate_normal.bivariate_rectangle(l1, u1, l2, u2, rho)
 
 
 def _no_nan_bounds(**bounds) -> None:
@@ -208,6 +199,8 @@ def _no_nan_bounds(**bounds) -> None:
                              f"{value!r}")
 
 
+@_bivariate(returns=("numpy.ndarray", "The log probabilities (``<= 0``; ``-inf`` for an empty "
+                     "rectangle)."))
 def log_bivariate_rectangle(l1, u1, l2, u2, rho):
     """``log P(l1 < X < u1, l2 < Y < u2)`` for a standard bivariate normal, correlation ``rho``.
 
@@ -215,37 +208,19 @@ def log_bivariate_rectangle(l1, u1, l2, u2, rho):
     :func:`bivariate_normal_cdf` values (Owen's T; absolute accuracy ~1e-16, so relative
     ~1e-11 or better there). Below, where that difference cancels (a small rectangle, a rectangle
     in the tails), a quadrature in ``x`` of ``phi(x) P(l2 < Y < u2 | x)`` in the log domain
-    (``_log_rectangle_quadrature`` of :mod:`fusioncenter.censoring._probability_core`):
+    (``_log_rectangle_quadrature`` of :mod:`fusioncenter._compiled.bivariate_normal`):
     relative accuracy ~1e-12 however small the probability (checked against mpmath down to
     1e-300 and below). ``|rho| > 1 - 1e-6`` keeps the inclusion-exclusion (the conditional law
     is too narrow for the quadrature).
-
-    Parameters
-    ----------
-    l1, u1, l2, u2 : array_like
-        Bounds (``-inf`` / ``inf`` allowed), broadcast together; an empty interval gives
-        ``-inf``.
-    rho : array_like
-        Correlation in ``[-1, 1]``.
-
-    Returns
-    -------
-    numpy.ndarray
-        The log probabilities (``<= 0``).
-
-    Raises
-    ------
-    ValueError
-        Naming the bound that is text or NaN, or if ``rho`` is NaN or outside ``[-1, 1]``.
     """
     _no_nan_bounds(l1=l1, u1=u1, l2=l2, u2=u2)
-    return _core.log_bivariate_rectangle(l1, u1, l2, u2, rho)
+    return bivariate_normal.log_bivariate_rectangle(l1, u1, l2, u2, rho)
 
 
 # ----------------------------------------------------------------------------- checked entry points
-# The filters' kernels are in fusioncenter.censoring._probability_core (no checks: the callers
-# validated their inputs once); the public names below check their arguments and then call the
-# same kernel, so a valid call gives the same bits.
+# The filters' kernels are in fusioncenter._compiled.censored_normal and .bivariate_normal (no
+# checks: the callers validated their inputs once); the public names below check their arguments
+# and then call the same kernel, so a valid call gives the same bits.
 def _half_widths(name: str, h) -> np.ndarray:
     h = _v.as_float(name, h)
     if np.any(np.isnan(h)) or np.any(h < 0):
@@ -320,9 +295,9 @@ def _checked(kernel, check):
     return public
 
 
-prob_inside = _checked(_core.prob_inside, _check_inside)
-log_prob_inside = _checked(_core.log_prob_inside, _check_inside)
-truncated_normal = _checked(_core.truncated_normal, _check_truncated)
-log_silent_constant = _checked(_core.log_silent_constant, _check_silent_constant)
-log_region_probability = _checked(_core.log_region_probability, _check_region)
-log_inside_degenerate = _checked(_core.log_inside_degenerate, _check_degenerate)
+prob_inside = _checked(censored_normal.prob_inside, _check_inside)
+log_prob_inside = _checked(censored_normal.log_prob_inside, _check_inside)
+truncated_normal = _checked(censored_normal.truncated_normal, _check_truncated)
+log_inside_degenerate = _checked(censored_normal.log_inside_degenerate, _check_degenerate)
+log_silent_constant = _checked(bivariate_normal.log_silent_constant, _check_silent_constant)
+log_region_probability = _checked(bivariate_normal.log_region_probability, _check_region)

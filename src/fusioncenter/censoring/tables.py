@@ -10,10 +10,8 @@ import functools
 import numpy as np
 
 from fusioncenter._compiled import log_table
-from fusioncenter.censoring._probability_core import (
-    log_region_probability,
-    prob_inside,
-)
+from fusioncenter._compiled.bivariate_normal import log_region_probability
+from fusioncenter._compiled.censored_normal import prob_inside
 
 # ----------------------------------------------------------------------------- tables, the FC model
 #: The tables cover ``|x| < 48`` (beyond, the exact function is evaluated).

@@ -8,10 +8,10 @@ import math
 import numpy as np
 
 from fusioncenter import montecarlo, particle
-from fusioncenter._compiled import transitions, vector_terms, ziggurat
+from fusioncenter._compiled import censored_normal, transitions, vector_terms, ziggurat
 from fusioncenter._validate import one_of as _one_of
 from fusioncenter._validate import posint as _posint
-from fusioncenter.censoring import _probability_core, fusion, results
+from fusioncenter.censoring import fusion, results
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.ellipse import (
     LIKELIHOODS,
@@ -117,7 +117,7 @@ def _truncated_std_normal(rng, lo, hi):
     """Draws of ``Z ~ N(0, 1)`` conditioned on ``lo < Z < hi``: the inverse cdf of
     :func:`fusioncenter.censoring.probability.truncated_normal` at uniforms drawn from ``rng``."""
     u = rng.random(np.broadcast_shapes(np.shape(lo), np.shape(hi)))
-    return _probability_core.truncated_normal(u, lo, hi)
+    return censored_normal.truncated_normal(u, lo, hi)
 
 
 def _sample_in_ellipse(rng, b, a, rounds: int = 16):
@@ -156,8 +156,8 @@ def _sample_in_ellipse(rng, b, a, rounds: int = 16):
         u1 = b1 + _truncated_std_normal(rng, -a[0] - b1, a[0] - b1)
         h = a[1] * np.sqrt(np.clip(1.0 - (u1 / a[0]) ** 2, 0.0, None))
         u2 = b2 + _truncated_std_normal(rng, -h - b2, h - b2)
-        ratio = np.exp(_probability_core.log_prob_inside(b2, h)
-                       - _probability_core.log_prob_inside(b2, np.full_like(b2, a[1])))
+        ratio = np.exp(censored_normal.log_prob_inside(b2, h)
+                       - censored_normal.log_prob_inside(b2, np.full_like(b2, a[1])))
         ok = rng.random(todo.size) < ratio
         out[todo, 0], out[todo, 1] = u1, u2
         todo = todo[~ok]

@@ -47,23 +47,16 @@ Functions (signature, one line each):
   per-trial summary for :func:`fusioncenter.montecarlo.simulate`; ``split_summary`` names it.
 * ``split_summary(arr, nx) -> dict``: the columns of an ``event_kf_chunk`` array by name.
 
-The package: :mod:`~fusioncenter.event.trigger` (the one-shot closed forms and the posterior)
-and :mod:`~fusioncenter.event.kf` (the filter, which advances with
-:func:`fusioncenter.kalman.kalman_step`); the names above are re-exported here.
+The package: :mod:`~fusioncenter.event.trigger` (the one-shot closed forms and the posterior),
+:mod:`~fusioncenter.event.kf` (the filter, which advances with
+:func:`fusioncenter.kalman.kalman_step`) and :mod:`~fusioncenter.event.rate` (the trigger
+parameter for a target send rate); the names above are re-exported here.
 """
 
 from __future__ import annotations
 
-from fusioncenter.event.kf import (
-    SCHEMES,
-    Calibration,
-    EventKFRun,
-    calibrate_delta,
-    event_kf_chunk,
-    event_kf_run,
-    split_summary,
-    steady_state_delta,
-)
+from fusioncenter.event.kf import SCHEMES, EventKFRun, event_kf_chunk, event_kf_run, split_summary
+from fusioncenter.event.rate import Calibration, calibrate_delta, steady_state_delta
 from fusioncenter.event.trigger import (
     communication_rate,
     delta_for_rate,

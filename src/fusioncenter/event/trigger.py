@@ -364,11 +364,7 @@ def posterior(xbar, Sigma, C, R, delta, gamma, y):
     delta = per_sensor("delta", delta, m, positive=True)
     gamma = _gamma(gamma, m)
     y = np.asarray(y, dtype=float)
-    try:
-        gamma, y = np.broadcast_arrays(gamma, y)
-    except ValueError:
-        raise ValueError(f"y must have shape (..., {m}) matching gamma {gamma.shape}, "
-                         f"got {y.shape}") from None
-    if not np.all(np.isfinite(y[gamma])):
-        raise ValueError("y must be finite where gamma is 1 (a received measurement)")
+    gamma, y = _v.finite_where(gamma, y, mismatch=f"y must have shape (..., {m}) matching gamma "
+                               f"{gamma.shape}, got {y.shape}",
+                               missing="y must be finite where gamma is 1 (a received measurement)")
     return _posterior_core(xbar, Sigma, C, r, delta, gamma, y, check=True)

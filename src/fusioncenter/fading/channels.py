@@ -165,7 +165,21 @@ lam : float
     ``1 / E[r]``, the inverse of the mean power gain: finite and ``> 0``.
 m : float
     The Nakagami fading parameter (shape of the Gamma law), finite and ``>= 1/2``.
+rng : numpy.random.Generator
+    The generator to draw with.
+size : int or tuple of int
+    The shape of the draw.
+r : array_like
+    Power gains (not NaN).
+b : array_like
+    Shifts ``b >= 0`` (``+inf`` allowed: the limit of a noiseless channel).
 """)
+#: The ``Raises`` sections of the laws' methods.
+_BAD_R = (("ValueError", "If ``r`` is text or NaN."),)
+_BAD_B = (("ValueError", "If ``b`` is text, NaN or negative."),)
+#: ``b`` of :meth:`Rayleigh.inverse_mean` and :meth:`Nakagami.inverse_mean`.
+_POSITIVE_B = dict(b=("array_like", "Shifts ``b > 0``, finite."),
+                   raises=(("ValueError", "If ``b`` is not finite and positive."),))
 
 
 class _PowerGainLaw:
@@ -196,24 +210,32 @@ class Rayleigh(_PowerGainLaw):
     def name(self) -> str:
         return f"Rayleigh (lam = {self.lam:g})"
 
+    @_doc(returns=("numpy.ndarray", "Exponential power gains of shape ``size``."), raises=())
     def sample(self, rng: np.random.Generator, size) -> np.ndarray:
         """Power gains ``r = h^2`` drawn with ``rng``."""
         return rng.standard_exponential(size) / self.lam
 
+    @_doc(returns=("numpy.ndarray", "``lam exp(-lam r)``, broadcast over ``r``."), raises=_BAD_R)
     def pdf(self, r):
         """The density of ``r`` (0 for ``r < 0``); ``r`` must not be NaN."""
         r = _notnan("r", r)
         return np.where(r >= 0, self.lam * np.exp(-self.lam * np.maximum(r, 0.0)), 0.0)
 
+    @_doc(returns=("float or numpy.ndarray", "``E[1 / (r + b)]``, broadcast over ``b``."),
+          **_POSITIVE_B)
     def inverse_mean(self, b):
         """``E[1 / (r + b)] = lam e^{lam b} E1(lam b)`` for ``b > 0``."""
         b = _positive("b", b, "a shift")
         return self.lam * exp_e1(self.lam * b)
 
+    @_doc(returns=("numpy.ndarray", "``g(b)`` in ``[0, 1]``, broadcast over ``b``."),
+          raises=_BAD_B)
     def ratio_mean(self, b):
         """``g(b) = E[b / (r + b)] = μ e^μ E1(μ)``, ``μ = lam b`` (in [0, 1]; 0 at ``b = 0``)."""
         return _x_exp_e1(self.lam * _shift("b", b))
 
+    @_doc(returns=("numpy.ndarray", "The bound, in ``[0, 1]``, broadcast over ``b``."),
+          raises=_BAD_B)
     def ratio_mean_bound(self, b):
         """``μ ln(1 + 1/μ) >= g(b)``, ``μ = lam b``: the inequality ``e^x E1(x) < ln(1 + 1/x)``
         used for (18)."""
@@ -251,12 +273,14 @@ class Nakagami(_PowerGainLaw):
     def name(self) -> str:
         return f"Nakagami (m = {self.m:g}, lam = {self.lam:g})"
 
+    @_doc(returns=("numpy.ndarray", "Gamma power gains of shape ``size``."), raises=())
     def sample(self, rng: np.random.Generator, size) -> np.ndarray:
         """Power gains drawn with ``rng`` (``m = 1/2``: ``Z^2 / lam``, ``Z`` standard normal)."""
         if self.m == 0.5:
             return rng.standard_normal(size) ** 2 / self.lam
         return rng.gamma(self.m, 1.0 / (self.lam * self.m), size)
 
+    @_doc(returns=("numpy.ndarray", "The Gamma density, broadcast over ``r``."), raises=_BAD_R)
     def pdf(self, r):
         """The density of ``r`` (0 for ``r <= 0``); ``r`` must not be NaN."""
         r = _notnan("r", r)
@@ -266,6 +290,8 @@ class Nakagami(_PowerGainLaw):
                 - scipy.special.gammaln(m))
         return np.where(r > 0, np.exp(logp), 0.0)
 
+    @_doc(returns=("numpy.ndarray", "``g(b)`` in ``[0, 1]``, broadcast over ``b``."),
+          raises=_BAD_B)
     def ratio_mean(self, b):
         """``g(b) = E[b / (r + b)]``.
 
@@ -283,11 +309,15 @@ class Nakagami(_PowerGainLaw):
             return _x_exp_e1(self.lam * b)
         return _gamma_ratio(self.lam * self.m * b, self.m)
 
+    @_doc(returns=("float or numpy.ndarray", "``E[1 / (r + b)]``, broadcast over ``b``."),
+          **_POSITIVE_B)
     def inverse_mean(self, b):
         """``E[1 / (r + b)]`` for ``b > 0`` (``= g(b) / b``)."""
         b = _positive("b", b, "a shift")
         return self.ratio_mean(b) / b
 
+    @_doc(returns=("numpy.ndarray", "The bound, in ``[0, 1]``, broadcast over ``b``."),
+          raises=(("ValueError", "If ``m`` is not 1/2, or ``b`` is text, NaN or negative."),))
     def ratio_mean_bound(self, b):
         """An upper bound on ``g(b)`` (only ``m = 1/2``: Abramowitz & Stegun 7.1.13).
 

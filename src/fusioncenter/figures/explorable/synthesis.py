@@ -7,7 +7,7 @@ CFoMD particle filters, random selection) and all-send on the accuracy–communi
 It is the frontier's compute at one budget: the particle filters run with ``l = b``
 (:func:`fusioncenter.censoring.run`), the trigger and random selection are tuned to the rate
 CFwMD measured (:func:`fusioncenter.figures.synthesis.calibrate`,
-:func:`fusioncenter.synthesis.run_kf`), every scheme on the same trials (paired). For reference,
+:func:`fusioncenter.comparison.run_kf`), every scheme on the same trials (paired). For reference,
 each frame also holds the Kalman-filter schemes' frontier curves (a grid of trigger parameters
 and of send probabilities, each point at the rate it measured on the same trials): they do not
 depend on ``b`` and are computed once per process.
@@ -19,7 +19,7 @@ import functools
 
 import numpy as np
 
-from fusioncenter import censoring, plotting, synthesis
+from fusioncenter import censoring, comparison, plotting
 from fusioncenter.context import Parameter
 from fusioncenter.explore import Slider
 from fusioncenter.explore import register as register_slider
@@ -70,9 +70,9 @@ SE_SCHEMES = (
 @functools.lru_cache(maxsize=4)
 def _reference(n: int, seed: int) -> dict:
     """The Kalman-filter schemes' frontier curves on the trials of ``(n, seed)``."""
-    runs = [synthesis.KFRun("stochastic", delta=d) for d in SE_REF_DELTA]
-    runs += [synthesis.KFRun("random", p=p) for p in SE_REF_P]
-    res = synthesis.run_kf(fs.scenario(), runs, n_trials=n, seed=seed)
+    runs = [comparison.KFRun("stochastic", delta=d) for d in SE_REF_DELTA]
+    runs += [comparison.KFRun("random", p=p) for p in SE_REF_P]
+    res = comparison.run_kf(fs.scenario(), runs, n_trials=n, seed=seed)
     k = len(SE_REF_DELTA)
     return {"ref_delta": np.array(SE_REF_DELTA), "ref_p": np.array(SE_REF_P),
             "ref_trigger_rate": np.array([s.rate()[0] for s in res[:k]]),
@@ -101,14 +101,14 @@ def compute_se(profile: str, seed: int, **over) -> dict:
     v = common.settings(SE_ID, SETTABLE_SE, profile, over)
     sc = fs.scenario()
     n, n_p, b, N = v["trials"], v["particles"], float(v["budget"]), sc.N
-    pf = {s: synthesis.summary_from_censoring(
+    pf = {s: comparison.summary_from_censoring(
         censoring.run(sc, s, l=b, n_trials=n, n_particles=n_p, seed=seed))
-        for s in synthesis.PF_SCHEMES}
+        for s in comparison.PF_SCHEMES}
     rho = pf["cfwmd"].rate()[0] / N
     delta = float(fs.calibrate([rho], profile, seed, v["calibration_trials"])[0])
-    kf = synthesis.run_kf(sc, [synthesis.KFRun("all-send"),
-                               synthesis.KFRun("stochastic", delta=delta),
-                               synthesis.KFRun("random", p=rho)], n_trials=n, seed=seed)
+    kf = comparison.run_kf(sc, [comparison.KFRun("all-send"),
+                                comparison.KFRun("stochastic", delta=delta),
+                                comparison.KFRun("random", p=rho)], n_trials=n, seed=seed)
     runs = {"allsend": kf[0], "trigger": kf[1], "random": kf[2], **pf}
     out: dict = {"budget": b, "N": N, "n_trials": n, "n_particles": n_p, "seed": seed,
                  "rho": float(rho), "delta": delta}

@@ -4,7 +4,7 @@ Fig. 1's problem (zheng2014 Section VII.A: two scalar sensors, the predicted sta
 at a target ``l`` of transmissions per step that the reader moves: where all-send, random
 selection, CFoMD and CFwMD sit on the plane of (measured transmissions per step, time-averaged
 position RMSE), and their position RMSE against time. Each frame runs the four schemes on the
-same trials (paired differences, :func:`fusioncenter.figures.zheng2014.common.schemes_data`),
+same trials (paired differences, :func:`fusioncenter.figures.zheng2014.comparisons.schemes_data`),
 through :func:`fusioncenter.figures.zheng2014.runs.kept_run` serially (one core); all-send
 ignores ``l`` and is run once, at ``l = N``.
 """
@@ -20,7 +20,9 @@ from fusioncenter.explore import Slider
 from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
 from fusioncenter.figures.registry import Claim
-from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES, log_y, schemes_data
+from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES
+from fusioncenter.figures.zheng2014.comparisons import schemes_data
+from fusioncenter.figures.zheng2014.panels import log_y
 from fusioncenter.figures.zheng2014.runs import kept_run
 
 OWN_IDS = ("zheng2014-explore",)
@@ -51,7 +53,7 @@ Z_REVERSE = 3.0
 Z_CLAIM = 4.0
 
 
-@common.compute_doc("""Those of :func:`fusioncenter.figures.zheng2014.common.schemes_data`
+@common.compute_doc("""Those of :func:`fusioncenter.figures.zheng2014.comparisons.schemes_data`
              (``schemes`` all-send, random, cfomd, cfwmd; ``tavg_position`` and its stderr,
              ``transmissions`` and its stderr, ``rmse_position`` against ``time``, the
              paired ``pair_diff_position`` of all-send − CFwMD, CFwMD − CFoMD, CFoMD − random,

@@ -18,6 +18,7 @@ from fusioncenter.figures.leong2011.common import (
     Z_TOL,
     draw_sensors,
     m_seed,
+    pooled_claim,
     register_panels,
     xy,
 )
@@ -249,19 +250,10 @@ def checks_fading(data: dict) -> list[Claim]:
               + f"; max |z| = {np.max(np.abs(zl)):.2f} ({data['lmmse_trials']} trials)"),
     ]
     if "loss_diff" in data:
-        # pooled over M (independent realizations at each M): at M = 2 the two losses
-        # nearly coincide, the gap opens with M
-        zd = data["loss_diff"] / data["loss_diff_stderr"]
-        pooled = np.mean(data["loss_diff"]) / (np.sqrt(np.sum(data["loss_diff_stderr"] ** 2))
-                                               / zd.size)
-        out.append(Claim(
+        out.append(pooled_claim(
             "the loss without CSI is larger for orthogonal than for multi-access: mean "
-            f"log(no-CSI / CSI) larger, pooled over M (paired, {Z_TOL:.0f} s.e.)",
-            bool(pooled > Z_TOL),
-            f"pooled z = {pooled:.1f}; per M z = " + ", ".join(f"{v:.1f}" for v in zd)
-            + "; no-CSI / CSI orthogonal "
-            + ", ".join(f"{r:.2f}" for r in data["loss_ratio"]) + "; multi-access "
-            + ", ".join(f"{r:.2f}" for r in data["multi_loss_ratio"])))
+            "log(no-CSI / CSI) larger", data["loss_diff"], data["loss_diff_stderr"],
+            ("no-CSI / CSI ", data["loss_ratio"], data["multi_loss_ratio"], 2)))
     return out
 
 

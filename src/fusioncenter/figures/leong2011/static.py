@@ -18,6 +18,7 @@ from fusioncenter.figures.leong2011.common import (
     Z_TOL,
     draw_sensors,
     m_seed,
+    pooled_claim,
     register_panels,
     xy,
 )
@@ -218,18 +219,10 @@ def checks_static(data: dict) -> list[Claim]:
               f"{opt[0]:.4g} at M = {data['M'][0]} → {opt[-1]:.4g} at M = {data['M'][-1]}"),
     ]
     if "benefit_diff" in data:
-        # pooled over M (independent realizations at each M): at M = 2 the two benefits are
-        # close and either may win on a given seed; the gap opens with M
-        z = data["benefit_diff"] / data["benefit_diff_stderr"]
-        pooled = np.mean(data["benefit_diff"]) / (
-            np.sqrt(np.sum(data["benefit_diff_stderr"] ** 2)) / z.size)
-        out.append(Claim(
-            f"optimal allocation helps more in orthogonal than with multi-access: mean "
-            f"equal/optimal ratio larger, pooled over M (paired, {Z_TOL:.0f} s.e.)",
-            bool(pooled > Z_TOL),
-            f"pooled z = {pooled:.1f}; per M z = " + ", ".join(f"{v:.1f}" for v in z)
-            + "; ratios orthogonal " + ", ".join(f"{r:.3f}" for r in data["ratio_mean"])
-            + "; multi-access " + ", ".join(f"{r:.3f}" for r in data["multi_ratio_mean"])))
+        out.append(pooled_claim(
+            "optimal allocation helps more in orthogonal than with multi-access: mean "
+            "equal/optimal ratio larger", data["benefit_diff"], data["benefit_diff_stderr"],
+            ("ratios ", data["ratio_mean"], data["multi_ratio_mean"], 3)))
     return out
 
 

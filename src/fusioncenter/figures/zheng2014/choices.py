@@ -19,11 +19,10 @@ from fusioncenter.figures.zheng2014.common import (
     RAISES,
     Z_ORDER,
     add_entry,
-    by_l_runs,
-    closer_z,
     run_size,
     settable,
 )
+from fusioncenter.figures.zheng2014.comparisons import by_l_runs, closer_z
 from fusioncenter.figures.zheng2014.linear import CHAPTER, L_FIG2
 from fusioncenter.figures.zheng2014.runs import kept_run
 

@@ -20,6 +20,9 @@ by every scheme and every ``l`` of an entry, so differences between curves are p
 
 Data keys (plain NumPy arrays and numbers; the chapter ``book/zheng2014/results`` prints them):
 see :data:`DATA_KEYS`.
+
+One concept, kept in one module (above 450 lines): the scalar entries of Section VII.A, which
+share their scenario, run sizes, :data:`DATA_KEYS` and parameters.
 """
 
 from __future__ import annotations
@@ -41,26 +44,26 @@ from fusioncenter.figures.zheng2014.common import (
     Z_ORDER,
     Z_TOL,
     add_entry,
-    by_l_data,
-    by_l_panels,
-    by_l_runs,
-    checks_schemes,
-    claim_rmse_decreases,
     curves,
-    pick_pairs,
-    printed_max_abs_diff,
-    rmse_panels,
     run_size,
-    schemes_data,
     settable,
     stack,
     stacked,
     subset,
+)
+from fusioncenter.figures.zheng2014.comparisons import (
+    by_l_data,
+    by_l_runs,
+    checks_schemes,
+    claim_rmse_decreases,
+    pick_pairs,
+    printed_max_abs_diff,
+    schemes_data,
     transmissions_data,
-    transmissions_plot,
     z_claim_ordered,
 )
 from fusioncenter.figures.zheng2014.contrasts import z_score
+from fusioncenter.figures.zheng2014.panels import by_l_panels, rmse_panels, transmissions_plot
 from fusioncenter.figures.zheng2014.runs import kept_run
 from fusioncenter.profile import by_profile
 
@@ -150,7 +153,7 @@ def _fig1_runs(seed: int, n: int, P: int, N: int, l: float) -> tuple:
 def compute_fig1(profile: str, seed: int, **over) -> dict:
     """Fig. 1: the four schemes (:data:`~fusioncenter.figures.zheng2014.common.SCHEMES`) with
     the predicted state fed back, ``N`` sensors (default 2) and target ``l`` (default 1), on
-    shared trials (:func:`~fusioncenter.figures.zheng2014.common.schemes_data`)."""
+    shared trials (:func:`~fusioncenter.figures.zheng2014.comparisons.schemes_data`)."""
     n, P = run_size(profile, TRIALS, PARTICLES, over)
     N, l = over.get("N", FIG1["N"]), over.get("l", FIG1["l"])
     return schemes_data(_fig1_runs(seed, n, P, N, l), N, l)
@@ -222,7 +225,7 @@ def compute_fig2(profile: str, seed: int, **over) -> dict:
 def plot_fig2(data: dict):
     """Fig. 2: the position RMSE against time, one curve per ``l``, of (a) CFwMD and (b)
     CFwMD2, and (c) their time averages against ``l``
-    (:func:`~fusioncenter.figures.zheng2014.common.by_l_panels`)."""
+    (:func:`~fusioncenter.figures.zheng2014.panels.by_l_panels`)."""
     return plotting.finish(by_l_panels(data))
 
 

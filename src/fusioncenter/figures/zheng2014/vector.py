@@ -30,7 +30,11 @@ from fusioncenter import context, plotting
 from fusioncenter.censoring import vector as cv
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
 from fusioncenter.figures.registry import Claim
-from fusioncenter.figures.zheng2014 import common  # shared with the scalar entries (Z_* = 4)
+from fusioncenter.figures.zheng2014 import (
+    common,  # shared with the scalar entries (Z_* = 4)
+    comparisons,
+    panels,
+)
 from fusioncenter.figures.zheng2014.runs import BLIND, kept_run
 
 #: Ids of the book's own figures registered here (not figures of the paper).
@@ -121,16 +125,17 @@ def _fig4_runs(seed: int, n: int, P: int) -> tuple:
 @compute_doc("See :data:`DATA_KEYS` (``zheng2014-fig4``).", raises=common.RAISES)
 def compute_fig4(profile: str, seed: int, **over) -> dict:
     """Fig. 4: the four schemes with the predicted state fed back, ``N = 2`` vector sensors,
-    ``l = 1``, on shared trials (:func:`~fusioncenter.figures.zheng2014.common.schemes_data`)."""
+    ``l = 1``, on shared trials
+    (:func:`~fusioncenter.figures.zheng2014.comparisons.schemes_data`)."""
     runs = _fig4_runs(seed, *common.run_size(profile, TRIALS, PARTICLES, over))
-    return common.schemes_data(runs, FIG4["N"], FIG4["l"])
+    return comparisons.schemes_data(runs, FIG4["N"], FIG4["l"])
 
 
 @plot_doc()
 def plot_fig4(data: dict):
     """Fig. 4: position (a) and velocity (b) RMSE against time of the four schemes, with 95 %
     bands, on log axes."""
-    fig = common.rmse_panels(data, list(data["schemes"]), LABELS)
+    fig = panels.rmse_panels(data, list(data["schemes"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, feedback of the predicted state, "
                                       f"N = {data['N']}, l = {data['l']:g} "
                                       f"({data['n_trials']} trials, {data['n_particles']} "
@@ -138,7 +143,7 @@ def plot_fig4(data: dict):
 
 
 #: The paper says of Fig. 4 what it says of Fig. 1: the same claims.
-checks_fig4 = common.checks_schemes
+checks_fig4 = comparisons.checks_schemes
 
 
 common.add_entry(
@@ -161,7 +166,7 @@ common.add_entry(
 @functools.lru_cache(maxsize=4)
 def _fig5_runs(seed: int, n: int, P: int) -> tuple:
     """(CFwMD runs, CFwMD2 runs) at every l: shared by Fig. 5 and Table II."""
-    return common.by_l_runs(_run, cv.VectorScenario(N=FIG5["N"]), L_FIG5, n=n, P=P,
+    return comparisons.by_l_runs(_run, cv.VectorScenario(N=FIG5["N"]), L_FIG5, n=n, P=P,
                             seed=seed, executor=context.executor())
 
 
@@ -175,7 +180,7 @@ def compute_fig5(profile: str, seed: int, **over) -> dict:
     """Fig. 5: CFwMD and CFwMD2 at every ``l`` of ``L_FIG5`` (``N = 4``), with the fraction
     of steps in which no sensor sends. The runs are Table II's (cached)."""
     a, b = _fig5_runs(seed, *common.run_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
-    return common.by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
+    return comparisons.by_l_data(a, b, L_FIG5, FIG5["N"], silent_steps=np.array(
         [[_silent_steps(r) for r in a], [_silent_steps(r) for r in b]]))
 
 
@@ -183,7 +188,7 @@ def compute_fig5(profile: str, seed: int, **over) -> dict:
 def plot_fig5(data: dict):
     """Fig. 5: the position RMSE against time, one curve per ``l``, of (a) CFwMD and (b)
     CFwMD2, and (c) their time averages against ``l``."""
-    return plotting.finish(common.by_l_panels(data, l_ticks=True),
+    return plotting.finish(panels.by_l_panels(data, l_ticks=True),
                            title=f"vector observations ({data['n_trials']} trials, "
                                  f"{data['n_particles']} particles)")
 
@@ -210,7 +215,7 @@ def checks_fig5(data: dict) -> list[Claim]:
               "paper's (3/4)⁴ = 0.32 for independent sensors, more with feedback)",
               bool(np.all((sil[:, i1] > 0.32) & (sil[:, i1] < 0.5))),
               f"fraction of silent steps: CFwMD {sil[0, i1]:.4f}, CFwMD2 {sil[1, i1]:.4f}"),
-        common.claim_rmse_decreases(data),
+        comparisons.claim_rmse_decreases(data),
     ]
 
 
@@ -218,7 +223,7 @@ def checks_fig5(data: dict) -> list[Claim]:
 def compute_table2(profile: str, seed: int, **over) -> dict:
     """Table II: the transmissions per step of Fig. 5's runs next to :data:`PAPER_TABLE2`."""
     a, b = _fig5_runs(seed, *common.run_size(profile, TRIALS_FIG5, PARTICLES_FIG5, over))
-    return common.transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
+    return comparisons.transmissions_data(a, b, L_FIG5, PAPER_TABLE2, FIG5["N"])
 
 
 @plot_doc()
@@ -227,7 +232,7 @@ def plot_table2(data: dict):
     (95 % bars) and the printed ones."""
     title = (f"N = {data['N']}, vector observations: average transmissions per step "
              f"({data['n_trials']} trials)")
-    return common.transmissions_plot(data, LABELS, "II", title, l_ticks=True)
+    return panels.transmissions_plot(data, LABELS, "II", title, l_ticks=True)
 
 
 @checks_doc()
@@ -324,9 +329,9 @@ def compute_fig6(profile: str, seed: int, **over) -> dict:
     runs = _fig6_runs(seed, *common.run_size(profile, TRIALS_FIG6, PARTICLES, over))
     by = dict(zip(FIG6_CURVES, runs, strict=True))
     cur = [common.curves(r) for r in runs]
-    printed_diff = common.printed_max_abs_diff(by)
+    printed_diff = comparisons.printed_max_abs_diff(by)
     pairs = [("all-send", "cfomd"), ("cfomd", "random"), ("exact", "cfomd")]
-    dp, sp, dv, sv = common.pair_differences(by, pairs)
+    dp, sp, dv, sv = comparisons.pair_differences(by, pairs)
     sc = runs[0].scenario
     mass = np.array([cv.printed_mass(sc, FIG6["l"], t) for t in range(1, sc.T + 1)])
     return {
@@ -344,7 +349,7 @@ def compute_fig6(profile: str, seed: int, **over) -> dict:
 def plot_fig6(data: dict):
     """Fig. 6: the RMSE of the five curves (all-send, random selection, CFoMD, CFwMD as
     printed and exact) against time; position on the left, velocity on the right."""
-    fig = common.rmse_panels(data, list(data["curves"]), LABELS)
+    fig = panels.rmse_panels(data, list(data["curves"]), LABELS)
     return plotting.finish(fig, title=f"vector observations, no feedback, N = {data['N']}, "
                                       f"l = {data['l']:g} ({data['n_trials']} trials, "
                                       f"{data['n_particles']} particles)")
@@ -370,16 +375,15 @@ def checks_fig6(data: dict) -> list[Claim]:
         Claim("Proposition 6 as printed is not a likelihood: it sums to more than 2 over the "
               "outcomes (a likelihood sums to 1)", bool(np.all(mass > 2.0)),
               f"sum over outcomes between {mass.min():.4f} and {mass.max():.4f}"),
-        common.z_claim_ordered("all-send < CFoMD < random selection (paired, position)",
-                               *common.pick_pairs(names, d, s, ("all-send", "cfomd"),
-                                                  ("cfomd", "random"))),
-        common.z_claim_ordered("the exact no-feedback CFwMD beats CFoMD (paired, position and "
-                               "velocity), as the paper's CFwMD does in Fig. 6",
-                               [("exact", "cfomd")] * 2,
-                               np.array([d[names.index(("exact", "cfomd"))],
-                                         dv[names.index(("exact", "cfomd"))]]),
-                               np.array([s[names.index(("exact", "cfomd"))],
-                                         sv[names.index(("exact", "cfomd"))]])),
+        comparisons.z_claim_ordered(
+            "all-send < CFoMD < random selection (paired, position)",
+            *comparisons.pick_pairs(names, d, s, ("all-send", "cfomd"), ("cfomd", "random"))),
+        comparisons.z_claim_ordered(
+            "the exact no-feedback CFwMD beats CFoMD (paired, position and "
+            "velocity), as the paper's CFwMD does in Fig. 6",
+            [("exact", "cfomd")] * 2,
+            np.array([d[names.index(("exact", "cfomd"))], dv[names.index(("exact", "cfomd"))]]),
+            np.array([s[names.index(("exact", "cfomd"))], sv[names.index(("exact", "cfomd"))]])),
         Claim("without feedback the censoring meets the design rate: l sensors per step",
               bool(zc < common.Z_TOL), f"{tr[cvs.index('cfomd')]:.4f} per step (z = {zc:.2f})"),
     ]
