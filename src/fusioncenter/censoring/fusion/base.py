@@ -108,7 +108,7 @@ class ReferenceFC(FusionCentreModel):
 
     Attributes
     ----------
-    sc : Scenario
+    sc : fusioncenter.censoring.scenarios.Scenario
         The scenario; its ``dynamics`` draw and propagate the particles.
     scheme : str
         The run's scheme.
@@ -183,7 +183,7 @@ class ExactModel(FusionCentreModel):
 
     Attributes
     ----------
-    sc : Scenario
+    sc : fusioncenter.censoring.scenarios.Scenario
         The scenario (a linear target).
     N : int
         Number of sensors.
