@@ -24,9 +24,9 @@ import math
 import numpy as np
 from scipy import special
 
+from fusioncenter._compiled import censored_normal
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
-from fusioncenter._compiled import censored_normal
 from fusioncenter.censoring import probability as cprob
 from fusioncenter.censoring.checks import (
     check_cholesky,
