@@ -23,11 +23,11 @@ HEAVY = (
     "test_figures_zheng2014.py::test_entry_computes_plots_and_passes",
     "test_registry_cli.py::test_own_entries_compute_plot_and_pass_their_checks",
     "test_settable_parts.py::test_an_override_reaches_the_data_and_is_recorded",
-    "test_censoring_compare.py::test_payoff_rows_are_consistent_with_the_entries",
-    "test_censoring_compare.py::test_bandwidth_claims_pass_on_the_fast_profile",
-    "test_censoring_compare.py::test_bandwidth_table_of_table3_reproduces_the_registrys_z",
-    "test_censoring_compare.py::test_bandwidth_claims_fail_on_corrupted_tables",
-    "test_censoring_compare.py::test_payoff_claims_pass_on_the_fast_profile",
+    "test_zheng2014_reading.py::test_payoff_rows_are_consistent_with_the_entries",
+    "test_zheng2014_reading.py::test_bandwidth_claims_pass_on_the_fast_profile",
+    "test_zheng2014_reading.py::test_bandwidth_table_of_table3_reproduces_the_registrys_z",
+    "test_zheng2014_reading.py::test_bandwidth_claims_fail_on_corrupted_tables",
+    "test_zheng2014_reading.py::test_payoff_claims_pass_on_the_fast_profile",
     "test_synthesis.py::test_entry_computes_plots_and_passes",
     "test_figures_zheng2014.py::test_choices_checks_fail_when_the_schemes_swap",
     "test_figures_mo2015.py::test_tracking_check_fails_on_an_optimistic_covariance",
@@ -43,7 +43,7 @@ HEAVY = (
     "test_interrupts.py::test_cli_signal_ends_the_run_and_its_pool",
     "test_interrupts.py::test_cli_a_dask_scheduler_killed_mid_run_exits_3",
     "test_registry_texts.py::test_claims_print_no_ascii_math_or_repr",
-    "test_registry_texts.py::test_censoring_compare_claims_are_typeset",
+    "test_registry_texts.py::test_zheng2014_reading_claims_are_typeset",
 )
 
 

@@ -711,7 +711,7 @@ def test_sub_blocks_only_split_the_random_stream(monkeypatch):
     sc = cs.LinearScenario(T=8, N=3, h=((1, 0), (1, 0), (0.5, 1)))
     kw = dict(scenario=sc, scheme="cfwmd", feedback="state", likelihood="corrected",
               eta=cs.threshold(1.0, 3), l=1.0, n_particles=120, ess_threshold=1.0)
-    monkeypatch.setattr(cs.fusion, "_SUB_PARTICLES", 1)
+    monkeypatch.setattr(cs.fusion.linear, "_SUB_PARTICLES", 1)
     a = cs.dispatch._chunk(np.random.default_rng(3), 6, **kw)
     rng_data, rng_pf = cs.results.streams(np.random.default_rng(3))
     x, z = sc.sample(rng_data, 6)
@@ -721,7 +721,7 @@ def test_sub_blocks_only_split_the_random_stream(monkeypatch):
                                    z[i:i + 1], u[i:i + 1])
         out = particle.run_filter(fc, rng_pf, 1, 120, sc.T)
         assert np.array_equal(a[i:i + 1], cs.trial_columns(out, x[i:i + 1], fc.sent, 120))
-    monkeypatch.setattr(cs.fusion, "_SUB_PARTICLES", 1 << 15)
+    monkeypatch.setattr(cs.fusion.linear, "_SUB_PARTICLES", 1 << 15)
     c = cs.dispatch._chunk(np.random.default_rng(3), 6, **kw)
     assert not np.allclose(a, c)  # another split of the stream: other draws
 

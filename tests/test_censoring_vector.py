@@ -169,7 +169,7 @@ def test_truncated_draws_have_the_conditional_mean():
     a = np.array([1.2, 2.1])
     for b in ([0.3, -0.4], [1.5, 1.0], [3.0, 0.5]):
         b = np.array(b)
-        u, left = cs.vector_fusion._sample_in_ellipse(rng, np.broadcast_to(b, (100_000, 2)), a)
+        u, left = cs.vector_fusion.sample_in_ellipse(rng, np.broadcast_to(b, (100_000, 2)), a)
         assert left == 0 and np.all(((u / a) ** 2).sum(axis=1) < 1)
         f, f1, f2, _ = ellipse.grid_terms(np.array([b[0]]), np.array([b[1]]), a[0], a[1], 64)
         mean = b + np.array([f1[0, 0], f2[0, 0]])
@@ -205,7 +205,7 @@ def test_compiled_rejection_rounds_draw_as_the_numpy_rounds(m):
         g1, g2 = (np.random.Generator(np.random.SFC64(seed)) for _ in range(2))
         ref, todo = _rejection_reference(g1, b, a, 40)
         assert todo.size == 0  # 40 rounds accept every point here: the sequential part idles
-        got, left = cs.vector_fusion._sample_in_ellipse(g2, b, a, rounds=40)
+        got, left = cs.vector_fusion.sample_in_ellipse(g2, b, a, rounds=40)
         assert left == 0 and np.array_equal(got, ref) and g1.random() == g2.random()
 
 
@@ -214,7 +214,7 @@ def test_compiled_tables_evaluate_as_the_numpy_code():
     evaluation's values bit for bit, the fixed table's fall-back beyond its extent included."""
     from fusioncenter.censoring import ellipse
     rng = np.random.default_rng(3)
-    tab = ellipse._fixed_table(1.3, 2.2)
+    tab = ellipse.tables._fixed_table(1.3, 2.2)
     x1, x2 = np.abs(rng.normal(size=(2, 40, 70)) * 5)
     x1[0, 0] = 12.5
     t1, t2 = x1 / tab.h, x2 / tab.h
@@ -232,7 +232,7 @@ def test_compiled_tables_evaluate_as_the_numpy_code():
     k, G = 5, 24
     f, f1, f2, f12 = rng.normal(size=(4, k, G, G))
     o1, o2, h1, h2 = rng.normal(size=k), rng.normal(size=k), rng.random(k) + 0.1, rng.random(k)
-    per = ellipse._Hermite2D(f, f1, f2, f12, o1, o2, h1, h2 + 0.1)
+    per = ellipse.tables._Hermite2D(f, f1, f2, f12, o1, o2, h1, h2 + 0.1)
     y1 = o1[:, None] + (G - 1) * h1[:, None] * rng.uniform(-0.1, 1.1, (k, 300))
     y2 = o2[:, None] + (G - 1) * (h2[:, None] + 0.1) * rng.uniform(-0.1, 1.1, (k, 300))
     assert np.array_equal(per.rows(y1, y2), per(np.arange(k)[:, None], y1, y2)[0])
@@ -466,18 +466,18 @@ def test_results_are_independent_of_chunking_and_executor():
     (2, "cfwmd", "state", "exact", 0.5), (2, "cfwmd", "none", "exact", 0.5),
 ])
 def test_fused_filter_equals_the_reference_model(N, scheme, feedback, likelihood, ess):
-    """Two models of the one loop, the tabulated (_FusedVector) and the plain one (_VectorFC,
-    _VectorExactFC): the same draws, the same estimates up to rounding and table error."""
+    """Two models of the one loop, the tabulated (FusedVectorFC) and the plain one (VectorFC,
+    VectorExactFC): the same draws, the same estimates up to rounding and table error."""
     sc = vector.VectorScenario(N=N)
     rng = np.random.default_rng(4)
     x, z = sc.sample(rng, 24)
     u = rng.random(z.shape[:-1])
     eta = cs.threshold(1, sc.N, dof=sc.m)
-    fused = cs.vector_fusion._FusedVector(sc, scheme, feedback, likelihood, eta, 1, z, u)
-    ref = cs.vector_fusion._VectorFC(sc, scheme, feedback, eta, 1, z, u, "table", 1, None)
+    fused = cs.vector_fusion.FusedVectorFC(sc, scheme, feedback, likelihood, eta, 1, z, u)
+    ref = cs.vector_fusion.VectorFC(sc, scheme, feedback, eta, 1, z, u, "table", 1, None)
     model = ref
     if scheme == "cfwmd" and feedback == "none":
-        model = cs.vector_fusion._VectorExactFC(sc, eta, z, ref.sent, "table", 1, None)
+        model = cs.vector_fusion.VectorExactFC(sc, eta, z, ref.sent, "table", 1, None)
     a = particle.run_filter(fused, np.random.default_rng(9), 24, 200, sc.T, ess_threshold=ess)
     b = particle.run_filter(model, np.random.default_rng(9), 24, 200, sc.T, ess_threshold=ess)
     assert np.allclose(a.mean, b.mean, rtol=1e-7, atol=1e-9)

@@ -325,7 +325,7 @@ def test_silent_table_fused_add_is_bitwise_the_table_then_the_sums():
     # the far rows went through the exact path: the kernel alone reports them
     rows = np.empty(m, dtype=np.intp)
     k = log_table.table_shifted_add(table.coef, table.n_int, y, hp, 0.9 / table.step, ns,
-                                   base.copy(), rows)
+                                    base.copy(), rows)
     assert rows[:k].tolist() == [2, 5]
 
 
@@ -355,7 +355,7 @@ def test_gauss_and_table_in_one_call_is_bitwise_the_two_kernels(add):
     assert np.array_equal(got, want)
     rows = np.empty(m, dtype=np.intp)
     k = log_table.gauss_table_add(table.coef, table.n_int, y, hp, 1.1 / table.step, ns,
-                                 base.copy(), rows, zbar, coef, add)
+                                  base.copy(), rows, zbar, coef, add)
     assert rows[:k].tolist() == [3]
 
 
@@ -582,7 +582,7 @@ def test_exact_received_kernel_is_the_numpy_arithmetic():
 
     got, ok = lw0.copy(), np.ones((n, P), dtype=bool)
     vector_terms.exact_received(Linv @ zi.T, Linv @ H, zi, H, Si, eta, p, v, h0, h1, rows,
-                                   got, ok)
+                                got, ok)
     assert np.array_equal(got, want)
     assert np.array_equal(ok, ok_want)
 

@@ -3,8 +3,8 @@
 Under every figure the site prints the entry's caption and its evidence table: each claim's
 name and detail (:func:`fusioncenter.book.evidence_html`); the scorecard prints the notes, the
 caption of a *differs* entry its reason, and the zheng2014 chapters the scenarios' ``choices``
-and the claims of :mod:`fusioncenter.censoring_compare`. None of it may hold a Python repr, a
-bare boolean or an ASCII stand-in for mathematics: the site's own detectors
+and the claims of :mod:`fusioncenter.figures.zheng2014.reading`. None of it may hold a Python
+repr, a bare boolean or an ASCII stand-in for mathematics: the site's own detectors
 (``find_repr_output`` and ``find_ascii_math`` of ``tools/browser_check``) and the stricter
 patterns below (``<=``, ``+/-``, ``->``, ``p_k``, ``P_inf``, ``x^2``, ``||e||``, ``sigma``,
 ``3 x 3``) find nothing.
@@ -23,9 +23,9 @@ from pathlib import Path
 import pytest
 from figure_helpers import data
 
-from fusioncenter import censoring_compare as cc
 from fusioncenter import figures
 from fusioncenter.censoring import nonlinear_model, scenarios, vector
+from fusioncenter.figures.zheng2014 import reading as cc
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -104,7 +104,7 @@ def test_claims_print_no_ascii_math_or_repr(entry_id):
                          + [(f"detail of {c.name!r}", c.detail) for c in claims])
 
 
-def test_censoring_compare_claims_are_typeset():
+def test_zheng2014_reading_claims_are_typeset():
     payoff = {e: data(e) for e in cc.PAYOFF_IDS}
     claims = cc.payoff_claims(cc.payoff_rows(payoff), cc.gain_by_l(payoff["zheng2014-fig9"]))
     tables = {s: data(cc.TABLE_IDS[s]) for s in cc.SETTINGS}

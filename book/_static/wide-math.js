@@ -31,7 +31,28 @@
       setTimeout(start, 50);  // MathJax is loaded after this script
     }
   }
-  window.addEventListener("resize", mark);
+  // MathJax 4 breaks a long formula at the width its box had when the page was typeset; when
+  // the window's width changes (a window narrowed, a tablet turned), the formulas are laid out
+  // again for the new width (MathJax re-measures from its METRICS state: no TeX is parsed
+  // again). window.fcMathSettled() resolves when the last such layout is done (the browser
+  // check waits for it after it resizes the window).
+  var settled = Promise.resolve(), timer = null, lastWidth = window.innerWidth;
+  function rebreak() {
+    var mj = window.MathJax;
+    if (!(mj && mj.startup && mj.startup.document && mj._ && mj._.core)) return Promise.resolve();
+    return mj.startup.promise.then(function () {
+      return mj.startup.document.rerenderPromise(mj._.core.MathItem.STATE.METRICS);
+    });
+  }
+  window.addEventListener("resize", function () {
+    if (window.innerWidth === lastWidth) { mark(); return; }
+    lastWidth = window.innerWidth;
+    clearTimeout(timer);
+    settled = new Promise(function (done) {
+      timer = setTimeout(function () { rebreak().then(mark).then(done, done); }, 150);
+    });
+  });
+  window.fcMathSettled = function () { return settled; };
   if (document.readyState === "loading") {
     document.addEventListener("DOMContentLoaded", start);
   } else {

@@ -12,11 +12,11 @@ chose, or managed, to send. One module per topic:
 - :mod:`fusioncenter.censoring`   innovation censoring and its likelihoods (zheng2014); vector
   observations (Section V) in :mod:`fusioncenter.censoring.vector` and its neighbours, the
   nonlinear sensor-grid tracker (Section VI) in :mod:`fusioncenter.censoring.nonlinear`
-- :mod:`fusioncenter.censoring_compare`    zheng2014's three settings read together (Tables I-III)
 - :mod:`fusioncenter.comparison`  the four papers' schemes on one problem, over faded links
 - :mod:`fusioncenter.particle`    a particle filter vectorized over trials and particles
 - :mod:`fusioncenter.montecarlo`  the one Monte Carlo runner (chunk- and executor-independent)
-- :mod:`fusioncenter.figures`     the registry of every figure and table of the papers
+- :mod:`fusioncenter.figures`     the registry of every figure and table of the papers;
+  zheng2014's three settings read together in :mod:`fusioncenter.figures.zheng2014.reading`
 - :mod:`fusioncenter.plotting`    the one plotting style
 - :mod:`fusioncenter.profile`     the ``fast`` / ``paper`` execution profiles
 """

@@ -289,7 +289,7 @@ def kalman_step(x, P, innov, C, R, A, Q, *, r_singular: bool | None = None,
     if check:
         _v.covariance("Q", Q)
     return KalmanStep(*step_kernel.kalman_step(x, P, innov, C, R, A, Q,
-                                              r_singular=r_singular, check=check))
+                                               r_singular=r_singular, check=check))
 
 
 def _step_shapes(x, P, innov, C, R, A, Q) -> None:

@@ -29,11 +29,13 @@ resolves no other host). For each page it checks:
   extension), and its woff fonts were loaded from the site itself.
 * at 1280 px, no element of the main text (tables, outputs, display math, paragraphs, code
   listings...) has content wider than its box, and no page is taller than 60 000 px; counts
-  per page and in total are printed (``check_layout``);
-* at 400 px (a phone), the same, except that content may also sit in a box that scrolls
-  sideways inside the column (a wide table of numbers, a long equation, a figure kept at its
-  legible width); each registry figure there keeps panels >= 500 px wide and fonts >= 11 px in
-  such a box;
+  per page and in total are printed (``check_layout``); no ``aligned`` display is broken by
+  hand where the row and its continuation fit one line (``check_splits``: MathJax 4 breaks
+  what does not fit);
+* at 400 px (a phone), the same (the formulas broken again for the new width first), except that
+  content may also sit in a box that scrolls sideways inside the column (a wide table of
+  numbers, a long equation, a figure kept at its legible width); each registry figure there
+  keeps panels >= 500 px wide and fonts >= 11 px in such a box;
 * no page (text, titles, link texts) and no title of the search index contains unrendered
   MyST or LaTeX: ``\\tilde``, ``\\text{``, ``{cite}``, ``{eq}``, ``{glue}``, ``$...$``
   (``check_markup``);
@@ -50,7 +52,8 @@ problem, never a skip. Exit status 1 on any problem.
 One module per family of detectors: :mod:`~browser_check.page` (the page as it loads: HTTP,
 icon, images, MathJax), :mod:`~browser_check.explorables` (the sliders),
 :mod:`~browser_check.figures` (the registry figures), :mod:`~browser_check.layout` (clipped
-content, page height), :mod:`~browser_check.accessibility` (axe-core, keyboard focus),
+content, page height), :mod:`~browser_check.displays` (displays broken by hand),
+:mod:`~browser_check.accessibility` (axe-core, keyboard focus),
 :mod:`~browser_check.markup` (unrendered MyST/LaTeX), :mod:`~browser_check.reading` (a chapter
 reads as a book); :mod:`~browser_check.driver` serves the site and drives the browsers over it,
 :mod:`~browser_check.workers` runs several side by side, and ``__main__`` is the command line.
@@ -59,6 +62,7 @@ The browser itself and the local server are ``tools/headless.py``'s, shared with
 """
 
 from .accessibility import axe_violations, check_accessibility, check_focus
+from .displays import check_splits, needless_splits
 from .driver import check_site
 from .explorables import check_explorables
 from .layout import VIEWPORT, LayoutResult, check_layout
@@ -79,7 +83,8 @@ from .workers import WORKERS_ENV, default_workers
 __all__ = [
     "VIEWPORT", "WORKERS_ENV", "LayoutResult", "PageResult", "axe_violations",
     "check_accessibility", "check_explorables", "check_favicon", "check_focus", "check_layout",
-    "check_markup", "check_reading", "check_site", "default_workers", "find_ascii_math",
+    "check_markup", "check_reading", "check_site", "check_splits", "default_workers",
+    "find_ascii_math", "needless_splits",
     "find_contradicted_numbers", "find_doubled_words", "find_raw_markup", "find_repr_output",
     "is_chapter", "list_pages", "raw_markup_in_html", "raw_markup_in_search_index",
     "read_page",

@@ -31,6 +31,7 @@ from headless import (
 )
 
 from .accessibility import AXE_STATS, axe_summary, check_accessibility, check_focus
+from .displays import check_splits
 from .figures import (
     FIGURE_STATS,
     FIGURE_VIEWPORT,
@@ -39,7 +40,14 @@ from .figures import (
     merge_figure_stats,
     registry_figure_summary,
 )
-from .layout import LAYOUT_VIEWPORTS, NARROW_VIEWPORT, LayoutResult, check_layout, layout_summary
+from .layout import (
+    LAYOUT_VIEWPORTS,
+    NARROW_VIEWPORT,
+    LayoutResult,
+    check_layout,
+    layout_summary,
+    resize,
+)
 from .markup import check_markup
 from .page import MathCounter, check_page, list_pages
 from .reading import check_reading
@@ -345,7 +353,7 @@ def browse(base: str, html_dir: Path, pages: list[Path], printer, say,
                 for viewport in LAYOUT_VIEWPORTS:
                     try:
                         if page.viewport_size != viewport:
-                            page.set_viewport_size(viewport)
+                            resize(page, viewport)
                         measured[viewport["width"]] = check_layout(page, rel, viewport)
                         shown[viewport["width"]] = page.evaluate(FIGURES_JS)
                         if viewport == VIEWPORT:
@@ -353,6 +361,7 @@ def browse(base: str, html_dir: Path, pages: list[Path], printer, say,
                             # evidence tables and solutions are read too
                             check_accessibility(page, res, seen=axe_seen)
                             check_focus(page, res)
+                            check_splits(page, res)
                     except PlaywrightError as exc:
                         measured.setdefault(viewport["width"],
                                             LayoutResult(rel, width=viewport["width"]))

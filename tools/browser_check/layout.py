@@ -111,17 +111,31 @@ async ([selector, scrollClass, boxes]) => {
 
 
 
+_SETTLE_JS = """async () => {
+  await new Promise(done => requestAnimationFrame(() => requestAnimationFrame(done)));
+  if (window.fcMathSettled) await window.fcMathSettled();
+}"""
+
+
+def resize(page, viewport: dict) -> None:
+    """Set the window to ``viewport`` and wait until the page's formulas are broken again for
+    the new width (book/_static/wide-math.js: MathJax 4 breaks displays at the width the page
+    had when it was typeset)."""
+    page.set_viewport_size(viewport)
+    page.evaluate(_SETTLE_JS)
+
+
 def _at(page, viewport: dict, js):
     """Evaluate ``js`` (a script, or a function of no argument) with the window at
     ``viewport``, then put the window back."""
     before = page.viewport_size
     if before != viewport:
-        page.set_viewport_size(viewport)
+        resize(page, viewport)
     try:
         return js() if callable(js) else page.evaluate(js)
     finally:
         if before is not None and before != viewport:
-            page.set_viewport_size(before)
+            resize(page, before)
 
 
 @dataclass

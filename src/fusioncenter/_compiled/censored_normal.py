@@ -169,7 +169,7 @@ def log_prob_inside(m, h):
         p = np.empty(shape)
         two = shape if len(shape) == 2 else (1, shape[0])
         n_bad = normal_cdf.inside_difference(mb.reshape(two), hb.reshape(two),
-                                                  p.reshape(two), INSIDE_CUTOFF, 1e-6)
+                                             p.reshape(two), INSIDE_CUTOFF, 1e-6)
         bad = (p < INSIDE_CUTOFF) | (hb < 1e-6) if n_bad else None
     else:
         p = special.ndtr(h - m)

@@ -14,12 +14,14 @@ normal probabilities), :mod:`~fusioncenter.censoring.tables` (interpolation tabl
 :mod:`~fusioncenter.censoring.scenarios` (the
 :class:`~fusioncenter.censoring.scenarios.Scenario` base and :class:`LinearScenario`),
 :mod:`~fusioncenter.censoring.fusion` (the fusion-centre models of
-:func:`fusioncenter.particle.run_filter`), :mod:`~fusioncenter.censoring.results`
+:func:`fusioncenter.particle.run_filter`: what they share, the linear FC and the exact
+no-feedback filter), :mod:`~fusioncenter.censoring.results`
 (:class:`CensoringResult`), :mod:`~fusioncenter.censoring.dispatch`
 (:func:`~fusioncenter.censoring.dispatch.run`, the one dispatcher), and for Part IV(b)
-:mod:`~fusioncenter.censoring.ellipse` (the vector silent probability),
-:mod:`~fusioncenter.censoring.vector`, :mod:`~fusioncenter.censoring.vector_fusion`
-and :mod:`~fusioncenter.censoring.nonlinear`. The names below are re-exported here.
+:mod:`~fusioncenter.censoring.ellipse` (the vector silent probability: its quadrature and the
+filter's tables), :mod:`~fusioncenter.censoring.vector`,
+:mod:`~fusioncenter.censoring.vector_fusion` (the vector FCs, reference and fused, and their
+``run``) and :mod:`~fusioncenter.censoring.nonlinear`. The names below are re-exported here.
 
 Entry points (signature, one line each):
 
@@ -37,8 +39,8 @@ Entry points (signature, one line each):
 * ``run(scenario, scheme, *, l, n_trials, n_particles, seed, feedback="state", ...)
   -> CensoringResult``: the four schemes at the FC, through ``montecarlo.simulate``. Every
   fusion centre is a model of the one particle-filter loop :func:`fusioncenter.particle.run_filter`:
-  :class:`LinearFusionCentre` for every scheme, :class:`_ExactFusionCentre` for the exact
-  no-feedback filter.
+  :class:`LinearFusionCentre` for every scheme,
+  :class:`~fusioncenter.censoring.fusion.ExactFusionCentre` for the exact no-feedback filter.
 * ``paired_difference(a, b, component="position") -> (diff, stderr)``: time-averaged RMSE of
   ``a`` minus that of ``b`` on the same trials, with its paired standard error.
 

@@ -301,7 +301,7 @@ class _FusionCentre(fusion.ReferenceFC):
         # log N(z; h(x), r); silent (CFwMD), the offsets, then their factors
         amax = np.empty(sent.shape)
         amplitude_terms.sensor_terms(amp, sent, self.z[:, k], -0.5 / self.r, self.hx_pred
-                              if self.hx_pred is not None else amax, self.sd, amax)
+                                     if self.hx_pred is not None else amax, self.sd, amax)
         if not sent.all():
             rb, ri = np.nonzero(~sent)
             _silent_rows(amp, rb, ri, amax[rb, ri], self.hh[rb, ri])
@@ -318,7 +318,7 @@ class _FusionCentre(fusion.ReferenceFC):
         out = np.zeros((n, P))
         if self.sc.exponent == 2.0 and self.N <= 129:
             amplitude_terms.received_terms(x, self.pos, float(self.sc.alpha), float(self.sc.power),
-                                    self.sent[:, k], self.z[:, k], -0.5 / self.r, out)
+                                           self.sent[:, k], self.z[:, k], -0.5 / self.r, out)
             return out
         b, i = np.nonzero(self.sent[:, k])  # row-major: b is non-decreasing
         if b.size == 0:

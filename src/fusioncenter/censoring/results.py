@@ -118,7 +118,18 @@ class CensoringResult:
 
     def rmse(self, component: str) -> Curve:
         """RMSE per step ``sqrt(mean_trials squared error)``; stderr by the delta method
-        ``stderr(MSE) / (2 RMSE)``."""
+        ``stderr(MSE) / (2 RMSE)``.
+
+        Parameters
+        ----------
+        component : {"position", "velocity"}
+            Whose squared errors (summed over the scenario's position or velocity components).
+
+        Returns
+        -------
+        Curve
+            The RMSE per step ``(T,)`` and its standard error.
+        """
         sq = self._sq(component)
         mse = sq.mean(axis=0)
         se = sq.std(axis=0, ddof=1) / math.sqrt(sq.shape[0]) if sq.shape[0] > 1 \
@@ -165,7 +176,18 @@ class CensoringResult:
         return int(self.mc.samples[..., self.scenario.d + 2].sum())
 
     def time_averaged_rmse(self, component: str = "position") -> tuple[float, float]:
-        """``mean_t RMSE_t`` with its stderr (delta method over trials)."""
+        """``mean_t RMSE_t`` with its stderr (delta method over trials).
+
+        Parameters
+        ----------
+        component : str, optional
+            ``"position"`` or ``"velocity"``.
+
+        Returns
+        -------
+        tuple of float
+            ``(value, stderr)``.
+        """
         value, infl = tavg_influence(self, component)
         se = infl.std(ddof=1) / math.sqrt(infl.size) if infl.size > 1 else math.nan
         return value, float(se)

@@ -70,7 +70,24 @@ class LogTable:
     def shifted(self, y: np.ndarray, shift: np.ndarray, scale: float,
                 work: np.ndarray) -> np.ndarray:
         """``f((y - shift[:, None]) * scale)`` for an even table, using ``work`` (the shape of
-        ``y``) as scratch (saves three array passes over ``__call__``)."""
+        ``y``) as scratch (saves three array passes over ``__call__``).
+
+        Parameters
+        ----------
+        y : numpy.ndarray
+            Points ``(rows, P)``.
+        shift : numpy.ndarray
+            One shift per row ``(rows,)``.
+        scale : float
+            Factor applied after the shift.
+        work : numpy.ndarray
+            Scratch of the shape of ``y``; it receives the result.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``work``, holding the values.
+        """
         out = work
         if log_table.table_shifted(self.coef, self.n_int, y, shift, scale / self.step, out):
             far = np.isnan(out)  # beyond the table, or an interval with a non-finite node
@@ -87,14 +104,28 @@ class LogTable:
         ``gauss = (zbar, coef, add)``: first, in the same call, the received sensors' terms of
         :func:`fusioncenter._compiled.log_table.gauss_terms` (written to ``out`` or added to
         it), row by row (:func:`fusioncenter._compiled.log_table.gauss_table_add`; the same
-        floats as the two calls)."""
+        floats as the two calls).
+
+        Parameters
+        ----------
+        y, shift, scale
+            As in :meth:`shifted`.
+        ns : numpy.ndarray
+            Per row, how many times the factor counts (integers ``(rows,)``).
+        out : numpy.ndarray
+            Log weights ``(rows, P)``, added to (or written, see ``gauss``).
+        work : numpy.ndarray
+            Scratch of the shape of ``y``.
+        gauss : tuple, optional
+            ``(zbar, coef, add)`` of the received sensors' terms, or ``None``.
+        """
         rows = np.empty(y.shape[0], dtype=np.intp)
         if gauss is None:
             k = log_table.table_shifted_add(self.coef, self.n_int, y, shift, scale / self.step,
-                                           ns, out, rows)
+                                            ns, out, rows)
         else:
             k = log_table.gauss_table_add(self.coef, self.n_int, y, shift, scale / self.step, ns,
-                                         out, rows, *gauss)
+                                          out, rows, *gauss)
         if k:
             rows = rows[:k]
             val = self.shifted(y[rows], shift[rows], scale, work[:k])

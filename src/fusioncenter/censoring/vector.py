@@ -21,14 +21,15 @@ from fusioncenter import _validate as _v
 from fusioncenter._validate import finite as _finite
 from fusioncenter._validate import posint as _posint
 from fusioncenter.censoring import probability as cprob
-from fusioncenter.censoring import scenarios
 from fusioncenter.censoring.checks import check_eta, check_pd
 from fusioncenter.censoring.ellipse import canonical_map, log_silent_probability, theta_rule
+from fusioncenter.censoring.scenarios import common
+from fusioncenter.models import wna_model
 
 
 # ----------------------------------------------------------------------------- the scenario
 @dataclass(frozen=True)
-class VectorScenario(scenarios.Scenario):
+class VectorScenario(common.Scenario):
     """The tracking model of zheng2014 Section VII.B (vector observations).
 
     The target of Section VII.A (``x = [position, velocity]``, ``F = [[1, dt], [0, 1]]``,
@@ -65,7 +66,7 @@ class VectorScenario(scenarios.Scenario):
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        N, _, dt, sigma2 = scenarios.check_motion(self.N, self.T, self.dt, self.sigma2)
+        N, _, dt, sigma2 = common.check_motion(self.N, self.T, self.dt, self.sigma2)
         H = _finite("H", self.H)
         if H.ndim == 1:
             H = H[None, :]
@@ -86,23 +87,23 @@ class VectorScenario(scenarios.Scenario):
                              f"got shape {R.shape}")
         R = check_pd("R", R, m, why="a singular R makes the likelihood degenerate: the received "
                      "measurements would have no density")
-        x0 = scenarios.check_x0_pair(self.x0)
-        scenarios.check_feedback_moments(self.feedback_moments)
+        x0 = common.check_x0_pair(self.x0)
+        common.check_feedback_moments(self.feedback_moments)
         P0 = np.zeros((2, 2)) if self.P0 is None else np.asarray(self.P0, dtype=float)
-        F, q = scenarios.wna_model(dt)
-        dyn = scenarios.target_dynamics(F, float(sigma2) * q, x0, P0)
+        F, q = wna_model(dt)
+        dyn = common.target_dynamics(F, float(sigma2) * q, x0, P0)
         object.__setattr__(self, "N", N)
         object.__setattr__(self, "T", int(self.T))
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "sigma2", float(sigma2))
-        object.__setattr__(self, "H", scenarios.nested_tuple(H))
-        object.__setattr__(self, "R", scenarios.nested_tuple(R))
-        object.__setattr__(self, "x0", scenarios.nested_tuple(x0))
+        object.__setattr__(self, "H", common.nested_tuple(H))
+        object.__setattr__(self, "R", common.nested_tuple(R))
+        object.__setattr__(self, "x0", common.nested_tuple(x0))
         if self.P0 is not None:
-            object.__setattr__(self, "P0", scenarios.nested_tuple(P0))
+            object.__setattr__(self, "P0", common.nested_tuple(P0))
         self._cache["dynamics"] = dyn
 
-    # --- model pieces (dynamics, d, F, Q: see scenarios.Scenario)
+    # --- model pieces (dynamics, d, F, Q: see common.Scenario)
     @property
     def m(self) -> int:
         """Dimension of every sensor's measurement."""
@@ -123,15 +124,15 @@ class VectorScenario(scenarios.Scenario):
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""
-        P0 = "0 (x₀ = x̄₀ known exactly)" if self.P0 is None else scenarios.values_text(self.P0)
+        P0 = "0 (x₀ = x̄₀ known exactly)" if self.P0 is None else common.values_text(self.P0)
         return {
-            "time axis": scenarios.time_axis_choice(self.T),
-            "initial state": f"x₀ ∼ N(x̄₀, P₀), x̄₀ = {scenarios.values_text(self.x0)}, P₀ = "
+            "time axis": common.time_axis_choice(self.T),
+            "initial state": f"x₀ ∼ N(x̄₀, P₀), x̄₀ = {common.values_text(self.x0)}, P₀ = "
                              f"{P0}; the PF's particles start from the same law",
             "motion model": f"the target of Section VII.A: σ² = {self.sigma2:g} (Section "
                             "VII.B says 'the same one-dimensional moving target')",
-            "sensors": f"H = {scenarios.values_text(self.H)}, R = "
-                       f"{scenarios.values_text(self.R)} for every sensor unless given per sensor "
+            "sensors": f"H = {common.values_text(self.H)}, R = "
+                       f"{common.values_text(self.R)} for every sensor unless given per sensor "
                        "(the paper states Rⁱ = diag(2, 4) for i = 1, 2 only; sensors 3, 4 "
                        "of Fig. 5 use the same)",
             "local Kalman filters": "every sensor's KF starts from (x̄₀, P₀) and uses all of its "
@@ -150,14 +151,13 @@ class VectorScenario(scenarios.Scenario):
             "threshold": f"η = the upper-(l/N) quantile of χ²ₘ with m = {self.m} (eq. (32))",
             "silent probability": "P(qᵀq < η) by quadrature (interpolated tables in the "
                                   "filter, error < 10⁻⁶ in the log); the paper sampled it",
-            **scenarios.SCHEME_CHOICES,
+            **common.SCHEME_CHOICES,
             "no-feedback likelihood": "'exact' (particles carry every local prediction; "
                                       "default) or 'printed' Proposition 6 (= CFoMD)",
         }
 
     def sample(self, rng: np.random.Generator, n: int):
-        """Truth ``x (n, T+1, 2)`` and measurements ``z (n, T, N, m)`` of ``n`` trials: draws
-        ``x_0``, then ``T`` transitions, then all measurement noises ``(n, T, N, m)``."""
+        # x (n, T+1, 2), z (n, T, N, m): common.Scenario.sample
         x = self._truth(rng, n)
         noise = rng.standard_normal((n, self.T, self.N, self.m))
         L = np.linalg.cholesky(self.Rs)
@@ -172,6 +172,12 @@ class VectorScenario(scenarios.Scenario):
         ``A (T, N, m, 2)`` and ``a_scale (T, N, m)``: the canonical map of each sensor's silent
         region (``b = A (x - xhat)``, semi-axes ``sqrt(eta) * a_scale``, see
         :func:`canonical_map`).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``P_pred``, ``gain``, ``S``, ``Sigma``, ``A`` and ``a_scale`` as above (computed once,
+            then cached).
         """
         if "local" in self._cache:
             return self._cache["local"]
@@ -182,7 +188,7 @@ class VectorScenario(scenarios.Scenario):
         S = np.empty((T, N, m, m))
         Sigma = np.empty((T, 2 * N, 2 * N))
 
-        def update(t, Sig):  # the joint recursion: scenarios.local_error_recursion
+        def update(t, Sig):  # the joint recursion: common.local_error_recursion
             Sigma[t] = Sig
             A = np.zeros((2 * N, 2 * N))
             Wn = np.zeros((2 * N, 2 * N))
@@ -198,7 +204,7 @@ class VectorScenario(scenarios.Scenario):
                 Wn[blk, blk] = W @ R[i] @ W.T
             return A, Wn
 
-        scenarios.local_error_recursion(self, update)
+        common.local_error_recursion(self, update)
         Acan, asc = canonical_map(S, np.broadcast_to(R, S.shape))
         out = {"P_pred": P_pred, "gain": gain, "S": S, "Sigma": Sigma,
                "A": Acan @ H, "a_scale": asc}
@@ -206,7 +212,7 @@ class VectorScenario(scenarios.Scenario):
         return out
 
     def sensor_groups(self) -> list[np.ndarray]:
-        """Indices of sensors with identical ``(H^i, R^i)`` (they share every likelihood term)."""
+        # the groups of identical (H^i, R^i): common.Scenario.sensor_groups
         key = np.concatenate([self.Hs.reshape(self.N, -1), self.Rs.reshape(self.N, -1)], axis=1)
         _, inv = np.unique(key, axis=0, return_inverse=True)
         inv = inv.ravel()

@@ -1,8 +1,7 @@
-"""The fusion-centre models of the linear scenario for :func:`fusioncenter.particle.run_filter`.
-
-:class:`LinearFusionCentre` (every scheme), :class:`ExactFusionCentre` (the exact no-feedback
-filter), and the pieces the vector and nonlinear models share (:class:`ReferenceFC`,
-:class:`FeedbackModel`, :class:`ExactModel`)."""
+"""The fusion centre of the linear scenario for :func:`fusioncenter.particle.run_filter`:
+:class:`LinearFusionCentre` (every scheme except the exact no-feedback filter, which is
+:class:`~fusioncenter.censoring.fusion.exact.ExactFusionCentre`), organized for speed, and the
+sub-blocks of trials it runs on (:func:`sub_blocks`)."""
 
 from __future__ import annotations
 
@@ -13,217 +12,19 @@ import numpy as np
 from fusioncenter import particle
 from fusioncenter._compiled import censoring_decisions, log_table, transitions, ziggurat
 from fusioncenter._compiled.bivariate_normal import log_region_probability, log_silent_constant
-from fusioncenter._compiled.censored_normal import log_gauss, log_prob_inside, truncated_normal
+from fusioncenter._compiled.censored_normal import log_prob_inside
+from fusioncenter.censoring.fusion.base import (
+    FusionCentreModel,
+    decisions_in_advance,
+    silent_rows,
+)
 from fusioncenter.censoring.likelihood import no_feedback_region
 from fusioncenter.censoring.scenarios import LinearScenario
 from fusioncenter.censoring.tables import interp_rows, region_table, silent_table
 
-
-# ----------------------------------------------------------------------------- the fusion centre
-class ReferenceFC:
-    """What the reference FC models (:class:`fusioncenter.particle.FilterModel`, particles of
-    the target's state) share: the initial law and transition of the scenario ``self.sc``, and
-    the sensors' decisions that do not depend on the FC's broadcast."""
-
-    def initial(self, rng, n, P):
-        return self.sc.dynamics.initial(rng, n, P)
-
-    def transition(self, rng, t, x):
-        return self.sc.dynamics.transition(rng, t, x)
-
-    def _fixed_decisions(self, feedback: str, l: float, sel_u: np.ndarray) -> None:
-        """Fill ``self.sent`` where the decisions are known in advance: censoring without
-        feedback (``self._local_decisions()``), random selection, all-send."""
-        if self.censor and feedback == "none":
-            self._local_decisions()
-        elif self.scheme == "random":
-            self.sent[:] = sel_u < l / self.N
-        elif self.scheme == "all-send":
-            self.sent[:] = True
-
-
-class FeedbackModel(ReferenceFC):
-    """The FC's feedback of a linear target (``self.sc.feedback_moments``): the predicted mean
-    ``pred_mean (n, d)`` and covariance ``pred_cov (n, d, d)`` it broadcasts at every step."""
-
-    def _first_prediction(self, n: int) -> None:
-        """The broadcast of step 1: ``F x0`` and ``F P0 F^T + Q`` for every trial."""
-        dyn = self.sc.dynamics
-        self.pred_mean = np.broadcast_to(dyn.F @ dyn.m0, (n, dyn.dim)).copy()
-        self.pred_cov = np.broadcast_to(dyn.F @ dyn.P0 @ dyn.F.T + dyn.Q,
-                                        (n, dyn.dim, dyn.dim)).copy()
-
-    def _cloud_moments(self, x: np.ndarray) -> None:
-        """``feedback_moments="particles"``: broadcast the mean and covariance of the propagated
-        particle cloud ``x (n, P, d)``."""
-        if self.sc.feedback_moments == "particles":
-            self.pred_mean = x.mean(axis=1)
-            dev = x - self.pred_mean[:, None, :]
-            self.pred_cov = np.swapaxes(dev, -1, -2) @ dev / x.shape[1]
-
-    def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        if self.sc.feedback_moments == "analytic":
-            F, Q = self.sc.F, self.sc.Q
-            self.pred_mean = mean @ F.T
-            if cov is not None:
-                pc = F @ cov @ F.T + Q
-                self.pred_cov = 0.5 * (pc + np.swapaxes(pc, -1, -2))
-
-
-class ExactModel:
-    """What the exact no-feedback filters share: a particle is ``(x_t, xhat^1_{t|t-1}, ...,
-    xhat^N_{t|t-1})`` (``self.dim`` components, the state's first two), and a step where no
-    particle of a trial is consistent with who sent is relaxed and recorded in
-    ``self.relaxed (n, T)``."""
-
-    needs_cov = False
-
-    def initial(self, rng, n, P):
-        out = np.empty((n, P, self.dim))
-        out[..., :2] = self.sc.dynamics.initial(rng, n, P)
-        out[..., 2:] = np.tile(self.sc.F @ self.sc.dynamics.m0, self.N)
-        return out
-
-    def _consistent(self, full: np.ndarray, ok: np.ndarray, k: int) -> np.ndarray:
-        """The log weights ``full (n, P)`` where ``ok`` (the particle explains who sent), ``-inf``
-        elsewhere; a trial with no such particle keeps ``full`` (the constraint relaxed)."""
-        w = np.where(ok, full, -np.inf)
-        dead = ~ok.any(axis=1)
-        if dead.any():  # no particle's local predictions explain who sent: relax the constraint
-            w[dead] = full[dead]
-            self.relaxed[dead, k] = True
-        return w
-
-
-class ExactFusionCentre(ExactModel):
-    """CFwMD without feedback, exact: a particle is ``(x_t, xhat^1_{t|t-1}, ..., xhat^N_{t|t-1})``.
-
-    Given a particle, a sensor's decision is deterministic in its measurement, so the weight is
-    exact: ``N(z^i; h^T x, r) 1{|z^i - h^T xhat^i| >= a_i}`` for a received ``z^i`` and
-    ``P(|h^T x + n - h^T xhat^j| < a_j)`` for a silent sensor. Before the next propagation each
-    particle runs the sensors' Kalman updates, with the received ``z^i`` or with a draw of the
-    missing ``z^j`` from ``N(h^T x, r)`` truncated to the silent interval (its exact conditional
-    law). As the number of particles grows this is the Bayes filter of the FC's data, which
-    Proposition 3 approximates. State dimension ``2 (N + 1)``; the estimate is its first two
-    components. If in a trial no particle satisfies the received sensors' constraints (rare: a
-    few per thousand trial-steps with 250 particles), that step uses the weights without those
-    indicators and is counted in ``relaxed`` (reported as ``CensoringResult.collapsed``).
-
-    Parameters
-    ----------
-    sc : LinearScenario
-        The scenario.
-    eta : float
-        Threshold.
-    z : numpy.ndarray
-        Measurements ``(n, T, N)``.
-    sent : numpy.ndarray
-        Who sent ``(n, T, N)``, bool.
-    """
-
-    def __init__(self, sc: LinearScenario, eta: float, z: np.ndarray, sent: np.ndarray):
-        self.sc, self.eta, self.z, self.sent = sc, eta, z, sent
-        self.relaxed = np.zeros(sent.shape[:2], dtype=bool)
-        N = self.N = sc.N
-        self.dim = 2 * (N + 1)
-        self.H, self.r, self.sd = sc.H, sc.rvec, np.sqrt(sc.rvec)
-        self.local = sc.local_filters()
-        self.a = np.sqrt(eta * self.local["s"])  # (T, N)
-        # flat layout of the local predictions (2N,): h^T xhat^i for every i, and the KF step
-        # xhat^i_{t+1|t} = F xhat^i + F w_t^i nu^i in matrix form (all stacked matmuls)
-        self.Hblk = np.zeros((2 * N, N))
-        for i in range(N):
-            self.Hblk[2 * i:2 * i + 2, i] = self.H[i]
-        self.Fblk = np.kron(np.eye(N), sc.F).T
-        self.G = np.zeros((self.local["gain"].shape[0], N, 2 * N))
-        for i in range(N):
-            self.G[:, i, 2 * i:2 * i + 2] = self.local["gain"][:, i] @ sc.F.T
-
-    def transition(self, rng, t, xa):
-        n, P, _ = xa.shape
-        out = np.empty_like(xa)
-        xh = xa[..., 2:]
-        if t > 1:  # the sensors' KF updates at t - 1, then their predictions for t
-            k = t - 2
-            hxh = xh @ self.Hblk  # (n, P, N)
-            mu = xa[..., :2] @ self.H.T  # E[z | x] per sensor
-            zk = np.broadcast_to(self.z[:, k][:, None, :], hxh.shape).copy()
-            u = rng.random(hxh.shape)
-            for i in range(self.N):  # the trials where sensor i was silent (all particles)
-                rows = np.flatnonzero(~self.sent[:, k, i])
-                if rows.size:
-                    sd, a = self.sd[i], self.a[k, i]
-                    c, m = hxh[rows, :, i], mu[rows, :, i]
-                    zk[rows, :, i] = m + sd * truncated_normal(u[rows, :, i], (c - a - m) / sd,
-                                                               (c + a - m) / sd)
-            out[..., 2:] = xh @ self.Fblk + (zk - hxh) @ self.G[k]
-        else:
-            out[..., 2:] = xh
-        out[..., :2] = self.sc.dynamics.transition(rng, t, np.ascontiguousarray(xa[..., :2]))
-        return out
-
-    def log_weight(self, t, xa):
-        k = t - 1
-        hx = xa[..., :2] @ self.H.T
-        hxh = xa[..., 2:] @ self.Hblk
-        sent = self.sent[:, k][:, None, :]
-        z = self.z[:, k][:, None, :]
-        out = np.where(sent, log_gauss(np.where(sent, z, 0.0), hx, self.r), 0.0)
-        ok = None  # (n, P): the particle's local predictions explain who sent
-        for i in range(self.N):  # sensor by sensor: the same elementwise arithmetic
-            rows = np.flatnonzero(~self.sent[:, k, i])
-            if rows.size:
-                sd = self.sd[i]
-                out[rows, :, i] = log_prob_inside((hx[rows, :, i] - hxh[rows, :, i]) / sd,
-                                                  self.a[k, i] / sd)
-            ok_i = ~sent[..., i] | (np.abs(z[..., i] - hxh[..., i]) >= self.a[k, i])
-            ok = ok_i if ok is None else np.logical_and(ok, ok_i, out=ok)
-        if self.N < 8:  # NumPy's sum over a short axis: 0.0 + out_0 + out_1 + ..., in turn
-            full = np.add(0.0, out[..., 0])
-            for i in range(1, self.N):
-                full += out[..., i]
-        else:
-            full = out.sum(axis=-1)
-        return self._consistent(full, ok, k)
-
-    def observe(self, t, mean, cov):
-        pass
 #: Trials per sub-block of :class:`LinearFusionCentre`: about 32k particles, so that a sub-block's
 #: arrays stay in the core's cache while the ~40 array passes of a step run over them.
 _SUB_PARTICLES = 1 << 15
-
-
-def decisions_in_advance(scheme: str, feedback: str, l, sel_u: np.ndarray, shape: tuple,
-                         local) -> np.ndarray:
-    """The sensors' decisions ``sent (n, T, N)`` that do not depend on the FC's broadcast.
-
-    Parameters
-    ----------
-    scheme, feedback : str
-        The run's scheme and feedback (``"none"``, ``"state"``, ``"state+cov"``).
-    l : float
-        The target average number of sending sensors (random selection sends with ``l / N``).
-    sel_u : numpy.ndarray
-        ``(n, T, N)`` uniform draws of random selection.
-    shape : tuple
-        ``(n, T, N)``.
-    local : callable
-        No arguments; the censoring decisions of the sensors' own filters (no feedback).
-
-    Returns
-    -------
-    numpy.ndarray
-        Boolean ``(n, T, N)``: the local decisions for censoring without feedback, ``sel_u <
-        l / N`` for random selection, all true for all-send, and all false for censoring with
-        feedback (filled step by step by the fusion centre).
-    """
-    if scheme in ("cfomd", "cfwmd") and feedback == "none":
-        return local()
-    if scheme == "random":
-        return sel_u < l / shape[-1]
-    if scheme == "all-send":
-        return np.ones(shape, dtype=bool)
-    return np.zeros(shape, dtype=bool)
 
 
 def _local_decisions(sc: LinearScenario, eta: float, z: np.ndarray) -> np.ndarray:
@@ -262,34 +63,7 @@ def sub_blocks(n: int, P: int) -> list[slice]:
     return [slice(s0, min(n, s0 + sub)) for s0 in range(0, n, sub)]
 
 
-def silent_rows(fc, g, n_obs):
-    """The trials of a block in which a sensor of the group ``g`` was silent, when the fusion
-    centre ``fc`` uses silence in its likelihood (CFwMD with feedback); the step the linear and
-    vector FCs share before they add the silent factor to the log weights.
-
-    Parameters
-    ----------
-    fc : LinearFusionCentre or fusioncenter.censoring.vector_fusion model
-        A fusion centre with ``scheme`` and ``fb`` (feedback in use).
-    g : numpy.ndarray
-        The sensors of one group (equal observation models).
-    n_obs : numpy.ndarray
-        Per trial, the number of the group's sensors received at this step ``(n,)``.
-
-    Returns
-    -------
-    tuple of numpy.ndarray or None
-        ``(n_sil, rows)``: ``len(g) - n_obs`` and the indices of its non-zero entries; ``None``
-        when ``fc`` does not use silence or no trial has a silent sensor in ``g``.
-    """
-    if fc.scheme != "cfwmd" or not fc.fb:
-        return None
-    n_sil = len(g) - n_obs
-    rows = np.flatnonzero(n_sil)
-    return (n_sil, rows) if rows.size else None
-
-
-class LinearFusionCentre:
+class LinearFusionCentre(FusionCentreModel):
     """The FC of a :class:`LinearScenario` as a model of :func:`fusioncenter.particle.run_filter`
     (every scheme except the exact no-feedback filter, :class:`ExactFusionCentre`).
 
@@ -511,14 +285,12 @@ class LinearFusionCentre:
 
     # --- FilterModel
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
-        """``(n, P, 2)`` draws of ``x_0``
-        (:meth:`fusioncenter.particle.LinearGaussianDynamics.initial`), stored component by
-        component (:func:`fusioncenter.particle.by_component`)."""
+        # draws of x_0 (LinearGaussianDynamics.initial), stored component by component
         return particle.by_component(self.sc.dynamics.initial(rng, n, P))
 
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
-        """A1.3 in place: ``x <- F x + L g`` with ``g`` standard normal ``(n, P, rank Q)``
-        (``rng.standard_normal``'s numbers, drawn inside the pass for an SFC64 ``rng``)."""
+        # A1.3 in place: x <- F x + L g with g standard normal (n, P, rank Q)
+        # (rng.standard_normal's numbers, drawn inside the pass for an SFC64 rng)
         shape = (*x.shape[:2], self.LQ.shape[1])
         zig = ziggurat.tables() if type(rng.bit_generator) is np.random.SFC64 else None
         if shape[2] and zig is not None:  # NumPy's normals drawn inside the pass, same order
@@ -534,8 +306,8 @@ class LinearFusionCentre:
         return x
 
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
-        """A1.4: the log-likelihood of what the FC received at ``t`` (per-trial constants
-        dropped), ``(n, P)``."""
+        # A1.4, per-trial constants dropped; with feedback the sensors decide first. The log
+        # weights are written to a buffer the model reuses at every step.
         if self._tmp.shape != x.shape[:2]:
             self._tmp = np.empty(x.shape[:2])
             self._lw = np.empty(x.shape[:2])
@@ -544,8 +316,7 @@ class LinearFusionCentre:
         return lw
 
     def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
-        """What is fed back at ``t + 1`` (``feedback_moments="analytic"``): ``F mean`` and
-        ``F cov F^T + Q``."""
+        # what is fed back at t + 1 (feedback_moments="analytic"): F mean and F cov F^T + Q
         if self.analytic:
             self.pred_mean[:, 0] = mean[:, 0] + self.dt * mean[:, 1]
             self.pred_mean[:, 1] = mean[:, 1]

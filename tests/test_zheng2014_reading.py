@@ -1,6 +1,7 @@
-"""zheng2014's results read across its settings (``fusioncenter.censoring_compare``): the error
-arithmetic against closed forms, the common form of Tables I-III against the registry's own
-z-scores, and the chapter's claims pass on the fast-profile data and fail on corrupted data."""
+"""zheng2014's results read across its settings (``fusioncenter.figures.zheng2014.reading``):
+the error arithmetic against closed forms, the common form of Tables I-III against the registry's
+own z-scores, and the chapter's claims pass on the fast-profile data and fail on corrupted
+data."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import scipy.stats
 from figure_helpers import cached_data
 
 from fusioncenter import censoring
-from fusioncenter import censoring_compare as cc
+from fusioncenter.figures.zheng2014 import reading as cc
 
 
 # ------------------------------------------------------------------------- error arithmetic
