@@ -74,7 +74,7 @@ def find(entry_id: str) -> dict | None:
     Parameters
     ----------
     entry_id : str
-        A registry id.
+        The id looked up (the index is read once per process).
 
     Returns
     -------

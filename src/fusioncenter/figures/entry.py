@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from fusioncenter import context
+from fusioncenter._docstrings import Glossary
 from fusioncenter.context import Parameter
 from fusioncenter.figures import compute_cache
 from fusioncenter.figures.claim import Claim, nonfinite_keys
@@ -30,6 +31,12 @@ from fusioncenter.profile import check_profile
 __all__ = ["STATUSES", "Entry", "EntryNotReady"]
 
 STATUSES = ("not-started", "reproduced", "differs")
+
+#: The argument of the methods that read an entry's data.
+_doc = Glossary("""
+data : dict
+    The entry's data (:meth:`Entry.run_compute`).
+""")
 
 
 class EntryNotReady(RuntimeError):
@@ -282,29 +289,19 @@ class Entry:
             raise TypeError(f"{self.id}: compute must return a dict, got {type(data).__name__}")
         return data
 
+    @_doc(returns=("matplotlib.figure.Figure", "The figure."),
+          raises=(("EntryNotReady", "If the entry has no plot."),))
     def run_plot(self, data: dict):
         """``plot(data)``, with each panel of a figure of several panels given its own letter
-        (:func:`fusioncenter.plotting.letter_panels`).
-
-        Parameters
-        ----------
-        data : dict
-            The entry's data (:meth:`run_compute`).
-
-        Returns
-        -------
-        matplotlib.figure.Figure
-            The figure.
-
-        Raises
-        ------
-        EntryNotReady
-            If the entry has no plot.
-        """
+        (:func:`fusioncenter.plotting.letter_panels`)."""
         from fusioncenter import plotting
 
         return plotting.letter_panels(self._need("plot")(data))
 
+    @_doc(returns=("list of Claim", "The claims, in the order the checks give them."),
+          raises=(("EntryNotReady", "If the entry has no checks, or they return no claim."),
+                  ("TypeError", "If the checks return anything but\n"
+                                ":class:`~fusioncenter.figures.claim.Claim` objects.")))
     def run_checks(self, data: dict) -> list[Claim]:
         """The entry's claims evaluated on ``data``.
 
@@ -312,24 +309,6 @@ class Entry:
         :attr:`nonfinite_ok` (a computation gone wrong, or data tampered with), every claim is
         reported failed, with the offending keys in its detail, whatever its own test says.
         A check that raises on such data fails the same way instead of raising.
-
-        Parameters
-        ----------
-        data : dict
-            The entry's data (:meth:`run_compute`).
-
-        Returns
-        -------
-        list of Claim
-            The claims, in the order the checks give them.
-
-        Raises
-        ------
-        EntryNotReady
-            If the entry has no checks, or they return no claim.
-        TypeError
-            If the checks return anything but :class:`~fusioncenter.figures.claim.Claim`
-            objects.
         """
         check = self._need("checks")
         bad = nonfinite_keys(data, self.nonfinite_ok)
