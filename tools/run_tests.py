@@ -452,7 +452,7 @@ def main(argv: list[str] | None = None) -> int:
     lint = [("ruff", [PY, "-m", "ruff", "check", "src", "tests", "tools", "benchmarks",
                       "book/_ext"]),
             ("chapters", [PY, "tools/lint_chapters.py"]),
-            ("index", [PY, "-m", "fusioncenter.figures._index", "--check"])]
+            ("index", [PY, "-m", "fusioncenter.figures", "--check"])]
     try:
         if parallel:
             # the lint (5 s on one core) beside the nbval shards rather than before them, with a

@@ -13,7 +13,7 @@ from fusioncenter.profile import ENV_VAR, current_profile
 
 __all__ = ["FIGURE_METADATA", "assert_zero", "evidence_html", "evidence_text", "figure",
            "glue", "markdown_table", "md_table", "min_eig", "pm", "reproduce", "setup",
-           "show", "show_bundle"]
+           "show", "show_bundle", "show_evidence"]
 
 #: Metadata key under which :func:`reproduce` stores what the site's figure directive needs.
 FIGURE_METADATA = "fusioncenter"
@@ -23,7 +23,7 @@ _doc = Glossary("""
 entry_id : str
     The registry id the claims belong to (named in the heading).
 claims : list of Claim
-    The evaluated claims (:meth:`fusioncenter.figures.registry.Entry.run_checks`).
+    The evaluated claims (:meth:`fusioncenter.figures.entry.Entry.run_checks`).
 header : sequence of str
     The column titles.
 rows : iterable of sequence
@@ -140,12 +140,29 @@ def evidence_html(entry_id: str, claims) -> str:
     )
 
 
-def _show_figure(entry, fig, profile: str, seed: int) -> None:
+@_doc(returns=("None", "The evidence is shown (its plain text printed outside a notebook)."),
+      raises=(("AssertionError", "If a claim does not hold (after the evidence has been "
+                                 "shown), naming the failed ones."),),
+      name=("str", "The glue key of the evidence (the site's directive reads it)."),
+      failure=("str", "What the error says happened, before the failed claims' names."))
+def show_evidence(entry_id: str, claims, name: str, failure: str) -> None:
+    """Show the evidence of a figure (every claim with its value and verdict), then fail
+    loudly if a claim does not hold."""
+    show_bundle({"text/plain": evidence_text(entry_id, claims),
+                 "text/html": evidence_html(entry_id, claims)},
+                {"scrapbook": {"name": name, "mime_prefix": ""}})
+    failed = [c.name for c in claims if not c.passed]
+    if failed:
+        raise AssertionError(f"{entry_id}: {failure}: {failed}")
+
+
+def _show_png(fig, name: str, **run) -> None:
+    """Render ``fig`` once and show it, glued under ``name``, with what the site's figure
+    directive needs (its layout facts, its id, the ``run`` facts and its alt text)."""
     png, facts = plotting.render(fig)
-    meta = {**facts, "id": entry.id, "profile": profile, "seed": seed,
-            "alt": plotting.describe(fig)}
+    meta = {**facts, "id": name, **run, "alt": plotting.describe(fig)}
     show_bundle({"image/png": base64.b64encode(png).decode("ascii")},
-             {"scrapbook": {"name": entry.id, "mime_prefix": ""}, FIGURE_METADATA: meta})
+                {"scrapbook": {"name": name, "mime_prefix": ""}, FIGURE_METADATA: meta})
 
 
 def figure(name: str, fig) -> None:
@@ -190,10 +207,7 @@ def figure(name: str, fig) -> None:
                          f"and hyphens), got {name!r}")
     plotting.finish(fig)
     if _shell() is not None:
-        png, facts = plotting.render(fig)
-        meta = {**facts, "id": name, "alt": plotting.describe(fig)}
-        show_bundle({"image/png": base64.b64encode(png).decode("ascii")},
-                 {"scrapbook": {"name": name, "mime_prefix": ""}, FIGURE_METADATA: meta})
+        _show_png(fig, name)
     plt.close(fig)
 
 
@@ -219,7 +233,7 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
     -------
     data : dict
         What the entry's ``compute`` returned
-        (:meth:`fusioncenter.figures.registry.Entry.run_compute`, with the executor of
+        (:meth:`fusioncenter.figures.entry.Entry.run_compute`, with the executor of
         :func:`fusioncenter.context.default_spec`).
     figure : matplotlib.figure.Figure
         What the entry's ``plot`` made of ``data``. Under IPython (a notebook) it has been
@@ -231,7 +245,7 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
         If a claim does not hold (after the evidence has been shown).
     fusioncenter.figures.registry.UnknownEntry
         If no entry has the id (a ``KeyError``).
-    fusioncenter.figures.registry.EntryNotReady
+    fusioncenter.figures.entry.EntryNotReady
         If the entry has no compute, plot or checks yet.
     ValueError
         If ``profile`` or ``seed`` is invalid.
@@ -244,14 +258,9 @@ def reproduce(entry_id: str, profile: str | None = None, seed: int | None = None
     if _shell() is not None:
         import matplotlib.pyplot as plt
 
-        _show_figure(entry, fig, profile, entry.seed if seed is None else seed)
+        _show_png(fig, entry.id, profile=profile, seed=entry.seed if seed is None else seed)
         plt.close(fig)  # shown once, by the line above (the inline backend would repeat it)
-    show_bundle({"text/plain": evidence_text(entry_id, claims),
-              "text/html": evidence_html(entry_id, claims)},
-             {"scrapbook": {"name": f"{entry_id}-evidence", "mime_prefix": ""}})
-    failed = [c.name for c in claims if not c.passed]
-    if failed:
-        raise AssertionError(f"{entry_id}: claims failed: {failed}")
+    show_evidence(entry_id, claims, f"{entry_id}-evidence", "claims failed")
     return data, fig
 
 

@@ -3,7 +3,7 @@
 An explorable figure is a registry entry and a :class:`Slider` over one of its settable
 parameters. Each *frame* is the entry's own compute at one value of the grid, through the same
 path as ``python -m fusioncenter compute ID --set NAME=VALUE`` (:meth:`Entry.run_compute
-<fusioncenter.figures.registry.Entry.run_compute>`, so the book's compute cache keeps every
+<fusioncenter.figures.entry.Entry.run_compute>`, so the book's compute cache keeps every
 frame), drawn by the entry's own ``plot``. :func:`explore` computes the frames in a chapter
 and shows them:
 
@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from fusioncenter import figures, plotting
+from fusioncenter._docstrings import Glossary
 from fusioncenter.profile import check_profile, current_profile
 
 __all__ = ["FRAME_DPI", "STATIC_ENV", "Slider", "dumps_frames", "explore", "frames", "get",
@@ -45,6 +46,18 @@ STATIC_ENV = "FUSIONCENTER_STATIC_FIGURES"
 FRAME_PAD_IN = 0.1
 
 SLIDERS: dict[str, Slider] = {}
+
+#: The arguments the functions of the module share, by name.
+_doc = Glossary("""
+entry_id : str
+    A registry id with a slider (:func:`get`).
+profile : str, optional
+    ``"fast"`` or ``"paper"``; default :func:`fusioncenter.profile.current_profile`.
+seed : int, optional
+    The seed; default the entry's.
+data : list of dict
+    Its frames (:func:`frames`).
+""")
 
 
 @dataclass(frozen=True)
@@ -106,49 +119,53 @@ class Slider:
         object.__setattr__(self, "values", vals)
 
     def text(self, i: int) -> str:
-        """The value ``i`` as written beside the slider: ``"δ = 0.25"``."""
+        """The value ``i`` as written beside the slider.
+
+        Parameters
+        ----------
+        i : int
+            An index of :attr:`values`.
+
+        Returns
+        -------
+        str
+            The symbol, the value in :attr:`fmt` and the unit: ``"δ = 0.25"``.
+        """
         unit = f" {self.unit}" if self.unit else ""
         return f"{self.symbol} = {self.fmt.format(self.values[i])}{unit}"
 
     def overrides(self, profile: str, i: int) -> dict:
-        """The overrides of frame ``i``: the fixed sizes and the slider's value."""
+        """The overrides of one frame.
+
+        Parameters
+        ----------
+        profile : str
+            ``"fast"`` or ``"paper"`` (the key of :attr:`fixed`).
+        i : int
+            The frame: an index of :attr:`values`.
+
+        Returns
+        -------
+        dict
+            The fixed sizes of ``profile`` and the slider's parameter at ``values[i]``.
+        """
         return {**self.fixed.get(profile, {}), self.parameter: self.values[i]}
 
 
+@_doc(returns=("str", "``explore-ID`` (a registry figure of the same entry, on the same "
+                     "page, keeps ``ID``)."), entry_id="The registry id.")
 def name(entry_id: str) -> str:
-    """The explorable figure's label and glue key.
-
-    Parameters
-    ----------
-    entry_id : str
-        The registry id.
-
-    Returns
-    -------
-    str
-        ``explore-ID`` (a registry figure of the same entry, on the same page, keeps ``ID``).
-    """
+    """The explorable figure's label and glue key."""
     return f"explore-{entry_id}"
 
 
+@_doc(returns=("Slider", "``slider``."),
+      raises=(("ValueError", "If the entry already has a slider, or the parameter is not "
+                             "settable."),),
+      slider=("Slider", "The slider; its parameter must be one of the entry's settable "
+                        "parameters."))
 def register(slider: Slider) -> Slider:
-    """Register ``slider`` under its entry's id (one slider per entry).
-
-    Parameters
-    ----------
-    slider : Slider
-        The slider; its parameter must be one of the entry's settable parameters.
-
-    Returns
-    -------
-    Slider
-        ``slider``.
-
-    Raises
-    ------
-    ValueError
-        If the entry already has a slider, or the parameter is not settable.
-    """
+    """Register ``slider`` under its entry's id (one slider per entry)."""
     from fusioncenter.figures.registry import REGISTRY
 
     if slider.entry_id in SLIDERS:
@@ -163,49 +180,23 @@ def register(slider: Slider) -> Slider:
     return slider
 
 
+@_doc(returns=("Slider", "Its slider."), entry_id="The registry id.",
+      raises=(("KeyError", "If the entry has no slider (the message lists those that have "
+                           "one)."),))
 def get(entry_id: str) -> Slider:
-    """The slider of a registry entry.
-
-    Parameters
-    ----------
-    entry_id : str
-        The registry id.
-
-    Returns
-    -------
-    Slider
-        Its slider.
-
-    Raises
-    ------
-    KeyError
-        If the entry has no slider (the message lists those that have one).
-    """
+    """The slider of a registry entry."""
     figures.get(entry_id)  # imports the module that registers the entry and its slider
     if entry_id not in SLIDERS:
         raise KeyError(f"{entry_id!r} has no slider; these have one: {sorted(SLIDERS)}")
     return SLIDERS[entry_id]
 
 
+@_doc(returns=("list of dict", "``frames[i]`` is ``entry.run_compute(profile, seed, "
+                              "**slider.overrides(profile, i))``,\nbit for bit what ``python "
+                              "-m fusioncenter compute ID`` with those ``--set`` values\n"
+                              "gives."))
 def frames(entry_id: str, profile: str | None = None, seed: int | None = None) -> list[dict]:
-    """The entry's data at every value of its slider, each the entry's own compute.
-
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider (:func:`get`).
-    profile : str, optional
-        ``"fast"`` or ``"paper"``; default :func:`fusioncenter.profile.current_profile`.
-    seed : int, optional
-        The seed; default the entry's.
-
-    Returns
-    -------
-    list of dict
-        ``frames[i]`` is ``entry.run_compute(profile, seed, **slider.overrides(profile, i))``,
-        bit for bit what ``python -m fusioncenter compute ID`` with those ``--set`` values
-        gives.
-    """
+    """The entry's data at every value of its slider, each the entry's own compute."""
     slider = get(entry_id)
     profile = current_profile() if profile is None else check_profile(profile)
     entry = figures.get(entry_id)
@@ -213,24 +204,16 @@ def frames(entry_id: str, profile: str | None = None, seed: int | None = None) -
             for i in range(len(slider.values))]
 
 
+@_doc(returns=("list of fusioncenter.figures.claim.Claim", "The slider's ``sweep`` claims, "
+                                                          "then the frames' own."))
 def sweep_claims(entry_id: str, data: list[dict]) -> list:
     """The claims along the slider and, for every frame, the entry's own claims.
 
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider.
-    data : list of dict
-        Its frames (:func:`frames`).
-
-    Returns
-    -------
-    list of fusioncenter.figures.registry.Claim
-        The slider's ``sweep`` claims, then one claim "every frame's claims hold" with the
-        frames whose claims failed in its detail (claims about the paper's own setting are
-        skipped where the slider changes a parameter of that setting).
+    The entry's claims make one claim, "every frame's claims hold", with the frames whose
+    claims failed in its detail (claims about the paper's own setting are skipped where the
+    slider changes a parameter of that setting).
     """
-    from fusioncenter.figures.registry import Claim
+    from fusioncenter.figures.claim import Claim
 
     slider = get(entry_id)
     entry = figures.get(entry_id)
@@ -257,27 +240,17 @@ def _quantized(png: bytes) -> bytes:
     return buf.getvalue()
 
 
+@_doc(returns=("dict", "``frames``: per frame its PNG (base64), alt text, value text and "
+                      "caption facts;\n``facts``: the layout facts of the frames "
+                      "(:func:`fusioncenter.plotting.render`);\n``small_multiples``: a PNG "
+                      "(base64) of the frames at ``print_at``; and the slider's\n"
+                      "``parameter``, ``label``, ``values``, ``start`` and ``print_at``."))
 def render_frames(entry_id: str, data: list[dict]) -> dict:
     """Every frame drawn and described, and the small multiples: what the site needs.
 
     The first frame is laid out (:func:`fusioncenter.plotting.layout_facts`); every frame is
     then drawn once with that frame's panel positions and bounding box, so that the frames
     have the same size in pixels and the panels do not move when the slider does.
-
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider.
-    data : list of dict
-        Its frames (:func:`frames`).
-
-    Returns
-    -------
-    dict
-        ``frames``: per frame its PNG (base64), alt text, value text and caption facts;
-        ``facts``: the layout facts of the frames (:func:`fusioncenter.plotting.render`);
-        ``small_multiples``: a PNG (base64) of the frames at ``print_at``; and the slider's
-        ``parameter``, ``label``, ``values``, ``start`` and ``print_at``.
     """
     import matplotlib.pyplot as plt
 
@@ -347,6 +320,10 @@ def _widgets_wanted() -> bool:
     return type(get_ipython()).__name__ == "ZMQInteractiveShell"
 
 
+@_doc(returns=("list of dict", "The frames (:func:`frames`)."),
+      raises=(("AssertionError", "If a claim along the slider does not hold (after the "
+                                 "evidence has been shown)."),
+              ("KeyError", "If the entry has no slider.")))
 def explore(entry_id: str, profile: str | None = None, seed: int | None = None) -> list[dict]:
     """Compute, check and show an explorable figure; fail loudly if a claim does not hold.
 
@@ -355,29 +332,8 @@ def explore(entry_id: str, profile: str | None = None, seed: int | None = None) 
     (the slider's claims), glued under ``explore-ID`` and ``explore-ID-evidence``
     (:func:`name`). With a kernel, ipywidgets and
     :data:`STATIC_ENV` unset, it shows an ipywidgets slider over the frames instead.
-
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider (:func:`get`).
-    profile : str, optional
-        ``"fast"`` or ``"paper"``; default :func:`fusioncenter.profile.current_profile`.
-    seed : int, optional
-        The seed; default the entry's.
-
-    Returns
-    -------
-    list of dict
-        The frames (:func:`frames`).
-
-    Raises
-    ------
-    AssertionError
-        If a claim along the slider does not hold (after the evidence has been shown).
-    KeyError
-        If the entry has no slider.
     """
-    from fusioncenter.book import FIGURE_METADATA, evidence_html, evidence_text, show_bundle
+    from fusioncenter.book import FIGURE_METADATA, show_bundle, show_evidence
 
     slider = get(entry_id)
     profile = current_profile() if profile is None else check_profile(profile)
@@ -393,16 +349,12 @@ def explore(entry_id: str, profile: str | None = None, seed: int | None = None) 
         meta.pop("small_multiples")
         meta.update(profile=profile, seed=figures.get(entry_id).seed if seed is None else seed)
         show_bundle({"image/png": shown["small_multiples"],
-                  "text/plain": f"<explorable figure {entry_id}: {len(data)} frames of "
-                                f"{slider.parameter}>"},
-                 {"scrapbook": {"name": name(entry_id), "mime_prefix": ""},
-                  FIGURE_METADATA: meta})
-    show_bundle({"text/plain": evidence_text(entry_id, claims),
-              "text/html": evidence_html(entry_id, claims)},
-             {"scrapbook": {"name": f"{name(entry_id)}-evidence", "mime_prefix": ""}})
-    failed = [c.name for c in claims if not c.passed]
-    if failed:
-        raise AssertionError(f"{entry_id}: claims failed along the slider: {failed}")
+                     "text/plain": f"<explorable figure {entry_id}: {len(data)} frames of "
+                                   f"{slider.parameter}>"},
+                    {"scrapbook": {"name": name(entry_id), "mime_prefix": ""},
+                     FIGURE_METADATA: meta})
+    show_evidence(entry_id, claims, f"{name(entry_id)}-evidence",
+                  "claims failed along the slider")
     return data
 
 
@@ -426,23 +378,12 @@ def _show_widget(slider: Slider, shown: dict) -> None:  # pragma: no cover (need
     display(widgets.VBox([widgets.Label(slider.label), control, image]))
 
 
+@_doc(returns=("str", "One line of strict JSON: ``{\"id\", \"parameter\", \"values\", "
+                     "\"frames\"}``, ``frames[i]``\nbeing what ``python -m fusioncenter "
+                     "compute ID --json`` prints for ``values[i]``\n(without its ``_run`` "
+                     "record)."))
 def dumps_frames(entry_id: str, data: list[dict]) -> str:
-    """The data download of an explorable figure as JSON: every frame with its value.
-
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider.
-    data : list of dict
-        Its frames (:func:`frames`).
-
-    Returns
-    -------
-    str
-        One line of strict JSON: ``{"id", "parameter", "values", "frames"}``, ``frames[i]``
-        being what ``python -m fusioncenter compute ID --json`` prints for ``values[i]``
-        (without its ``_run`` record).
-    """
+    """The data download of an explorable figure as JSON: every frame with its value."""
     from fusioncenter import cli
 
     slider = get(entry_id)
@@ -450,25 +391,12 @@ def dumps_frames(entry_id: str, data: list[dict]) -> str:
                       "values": list(slider.values), "frames": data})
 
 
+@_doc(returns=("None", "The file is written."),
+      path=("str or pathlib.Path", "The file to write: the command line's long format\n"
+                                   "(:func:`fusioncenter.cli.write_csv`) of every frame, each "
+                                   "row led by the slider's\nvalue."))
 def write_frames_csv(entry_id: str, data: list[dict], path) -> None:
-    """The data download of an explorable figure as CSV: ``PARAMETER,name,index,value``.
-
-    Parameters
-    ----------
-    entry_id : str
-        A registry id with a slider.
-    data : list of dict
-        Its frames (:func:`frames`).
-    path : str or pathlib.Path
-        The file to write: the command line's long format
-        (:func:`fusioncenter.cli.write_csv`) of every frame, each row led by the slider's
-        value.
-
-    Returns
-    -------
-    None
-        The file is written.
-    """
+    """The data download of an explorable figure as CSV: ``PARAMETER,name,index,value``."""
     from fusioncenter import cli
 
     slider = get(entry_id)

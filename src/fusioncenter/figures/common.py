@@ -79,7 +79,7 @@ def checks_doc(returns: str = "One claim per statement of the paper checked on t
                "each with its measured value in its detail.", **overrides) -> Callable:
     """The numpydoc sections of an entry's checks function (it raises nothing of its own);
     ``returns`` says what the claims are, if the summary does not say it."""
-    return document(returns=("list of fusioncenter.figures.registry.Claim",
+    return document(returns=("list of fusioncenter.figures.claim.Claim",
                              inspect.cleandoc(returns)), raises=(), **overrides)
 
 
@@ -96,7 +96,7 @@ def settings(entry_id: str, settable, profile: str, over: dict) -> dict:
         ``"fast"`` or ``"paper"``: the default of a parameter may depend on it.
     over : dict
         The overrides (as given to ``compute``; already parsed when it runs through
-        :meth:`fusioncenter.figures.registry.Entry.run_compute`, parsed here otherwise).
+        :meth:`fusioncenter.figures.entry.Entry.run_compute`, parsed here otherwise).
 
     Returns
     -------
@@ -145,12 +145,12 @@ def register_figure(*, functions: tuple, **fields) -> Entry:
     functions : tuple
         ``(compute, plot, checks)`` of the entry.
     **fields
-        The other fields of :class:`fusioncenter.figures.registry.Entry` (``id``, ``paper``,
+        The other fields of :class:`fusioncenter.figures.entry.Entry` (``id``, ``paper``,
         ``caption``, ``chapter``, ``label``, ``parameters``, ``settable``, ``note``, ...).
 
     Returns
     -------
-    fusioncenter.figures.registry.Entry
+    fusioncenter.figures.entry.Entry
         The registered entry, with ``kind="figure"`` and ``status="reproduced"``.
     """
     compute, plot, checks = functions

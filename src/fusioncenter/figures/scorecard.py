@@ -10,10 +10,17 @@ from __future__ import annotations
 import re
 from collections import Counter
 
+from fusioncenter._docstrings import Glossary
 from fusioncenter.figures.registry import PAPERS, entries
 
 __all__ = ["paper_reference", "scorecard_markdown", "figure_index_markdown", "status_counts",
            "status_sentence", "status_rows"]
+
+#: The argument of the counts.
+_doc = Glossary("""
+paper : str, optional
+    Count only this paper's entries (default: all).
+""")
 
 _ROMAN = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI", 7: "VII", 8: "VIII", 9: "IX",
           10: "X"}
@@ -108,7 +115,7 @@ def scorecard_markdown(paper: str | None = None) -> str:
     Parameters
     ----------
     paper : str, optional
-        A key of :data:`~fusioncenter.figures.registry.PAPERS` to list only that paper's entries; by
+        A key of :data:`~fusioncenter.figures.papers.PAPERS` to list only that paper's entries; by
         default every entry is listed.
 
     Returns
@@ -143,7 +150,7 @@ def figure_index_markdown(paper: str) -> str:
     Parameters
     ----------
     paper : str
-        A key of :data:`~fusioncenter.figures.registry.PAPERS`.
+        A key of :data:`~fusioncenter.figures.papers.PAPERS`.
 
     Returns
     -------
@@ -161,43 +168,20 @@ def figure_index_markdown(paper: str) -> str:
                   lambda e: (_cell(paper_reference(e)), _link(e), f"`{e.id}`"))
 
 
+@_doc(returns=("dict of str to int", "The counts of ``\"reproduced\"``, ``\"differs\"`` "
+                                    "and ``\"not-started\"`` entries, in that\norder (zero "
+                                    "for a status no entry has)."))
 def status_counts(paper: str | None = None) -> dict[str, int]:
-    """How many entries have each status.
-
-    Parameters
-    ----------
-    paper : str, optional
-        Count only this paper's entries (default: all).
-
-    Returns
-    -------
-    dict of str to int
-        The counts of ``"reproduced"``, ``"differs"`` and ``"not-started"`` entries, in that
-        order (zero for a status no entry has).
-    """
+    """How many entries have each status."""
     counts = Counter(e.status for e in entries() if paper is None or e.paper == paper)
     return {s: counts.get(s, 0) for s in ("reproduced", "differs", "not-started")}
 
 
+@_doc(returns=("str", "The sentence (statuses no entry has are left out)."),
+      raises=(("ValueError", "If ``paper`` is not a known paper."),))
 def status_sentence(paper: str | None = None) -> str:
     """The entries' statuses in one sentence, e.g. ``"14 registry entries: 8 reproduced, 6
-    differ from the paper."`` or ``"3 registry entries, all reproduced."``.
-
-    Parameters
-    ----------
-    paper : str, optional
-        Count only this paper's entries (default: all).
-
-    Returns
-    -------
-    str
-        The sentence (statuses no entry has are left out).
-
-    Raises
-    ------
-    ValueError
-        If ``paper`` is not a known paper.
-    """
+    differ from the paper."`` or ``"3 registry entries, all reproduced."``."""
     _rows(paper)  # validates the paper
     counts = status_counts(paper)
     total = sum(counts.values())
@@ -223,7 +207,7 @@ def status_rows() -> list[list]:
     -------
     list of list
         ``[name, entries, reproduced, differs, not started]`` per paper, in the order of
-        :data:`~fusioncenter.figures.registry.PAPERS` (the book's own figures as ``"book's
+        :data:`~fusioncenter.figures.papers.PAPERS` (the book's own figures as ``"book's
         own"``), and ``"total"`` last.
     """
     rows = []

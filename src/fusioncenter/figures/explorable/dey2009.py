@@ -29,8 +29,6 @@ import numpy as np
 
 from fusioncenter import context, fading, plotting, riccati
 from fusioncenter.context import Parameter
-from fusioncenter.explore import Slider
-from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
 from fusioncenter.figures.dey2009.common import (
     BLOCK,
@@ -46,6 +44,7 @@ from fusioncenter.figures.dey2009.common import (
     excess_z,
     max_finite,
 )
+from fusioncenter.figures.explorable import declare
 from fusioncenter.figures.registry import Claim
 
 OWN_IDS = ("dey2009-explore",)
@@ -66,6 +65,10 @@ SETTABLE = (
               "(dimensionless)", 0.01, minimum=0.0, exclusive_minimum=True, model=True),
     common.trials_parameter(PATHS, "Monte Carlo paths of E[p_k]", name="paths"),
 )
+#: The slider over the grid: its text beside the value, the first frame and those of print.
+SLIDER = {"parameter": "mean_gain", "values": GAINS,
+          "label": "mean power gain 1/λ of the channel (dimensionless)", "symbol": "1/λ",
+          "fmt": "{:.3g}", "start": 3, "print_at": (0, 3, 9, 15)}
 
 
 def _model(gain: float) -> tuple:
@@ -173,27 +176,24 @@ def checks(data: dict) -> list[Claim]:
     ]
 
 
+def _facts(data: dict) -> dict[str, str]:
+    mean, se = data["mean"][-1], data["stderr"][-1]
+    return {"lam": f"{data['lam']:.3g}", "mean": f"{mean:.4g}", "se": f"{se:.2g}",
+            "s_limit": f"{data['s_limit']:.4g}", "q_limit": f"{data['q_limit']:.4g}",
+            "gap": f"{100 * (data['s_limit'] / mean - 1):.1f}",
+            "lower": f"{data['lower_limit']:.3f}", "paths": f"{data['n_paths']}"}
+
+
 def _decreasing(values) -> bool:
     return bool(np.all(np.diff(np.asarray(values, dtype=float)) < 0))
 
 
+@declare.sweep_doc("""``ℓₖ ≤ E[pₖ] ≤ sₖ ≤ qₖ`` at every gain and step (the upper side
+                   within 4 s.e.); ``E[p₁₀₀]`` falls from one gain to the next; ``s*`` and
+                   ``q*`` fall and stay above the perfect channel's ``p̄``.""",
+                   gains=("tuple of float", "The slider's mean power gains, increasing."))
 def sweep(gains, frames) -> list[Claim]:
-    """Along the slider: the bounds enclose the mean at every gain, and everything falls.
-
-    Parameters
-    ----------
-    gains : tuple of float
-        The slider's mean power gains, increasing.
-    frames : list of dict
-        The data of ``dey2009-explore`` at each of them.
-
-    Returns
-    -------
-    list of Claim
-        ``ℓₖ ≤ E[pₖ] ≤ sₖ ≤ qₖ`` at every gain and step (the upper side within 4 s.e.);
-        ``E[p₁₀₀]`` falls from one gain to the next; ``s*`` and ``q*`` fall and stay above
-        the perfect channel's ``p̄``.
-    """
+    """Along the slider: the bounds enclose the mean at every gain, and everything falls."""
     z = max(max_finite(excess_z(f["mean"][1:], f["stderr"][1:], f["s"][1:])) for f in frames)
     low = min(f["min_lower_gap"] for f in frames)
     order = all(np.all(f["s"] <= f["q"] * (1 + REL_SLACK)) for f in frames)
@@ -218,15 +218,7 @@ def sweep(gains, frames) -> list[Claim]:
     ]
 
 
-def _facts(data: dict) -> dict[str, str]:
-    mean, se = data["mean"][-1], data["stderr"][-1]
-    return {"lam": f"{data['lam']:.3g}", "mean": f"{mean:.4g}", "se": f"{se:.2g}",
-            "s_limit": f"{data['s_limit']:.4g}", "q_limit": f"{data['q_limit']:.4g}",
-            "gap": f"{100 * (data['s_limit'] / mean - 1):.1f}",
-            "lower": f"{data['lower_limit']:.3f}", "paths": f"{data['n_paths']}"}
-
-
-common.register_figure(
+declare.register(
     id="dey2009-explore",
     paper="dey2009",
     caption="One sensor over a Rayleigh channel, at the mean power gain 1/λ of the slider "
@@ -237,13 +229,10 @@ common.register_figure(
     label="sec-dey2009-sb-explore",
     parameters={**SCALAR, "sigma_v": SIGMA_V, "E[p_0]": P0, "steps": STEPS, "paths": PATHS,
                 "block_size": BLOCK, "mean_gain_grid": list(GAINS)},
-    functions=(compute, plot, checks),
+    functions=(compute, plot, checks, sweep, _facts),
     settable=SETTABLE,
     note="Our own figure, on the parameters of the paper's Fig. 1 (σᵥ = 1 and p₀ = 1 are our "
     "choice, as there); the lower bound is ours (a perfect channel), the upper bounds are "
     "the paper's (17)-(18).",
+    slider=SLIDER,
 )
-register_slider(Slider(
-    entry_id="dey2009-explore", parameter="mean_gain", values=GAINS,
-    label="mean power gain 1/λ of the channel (dimensionless)", symbol="1/λ", fmt="{:.3g}",
-    start=3, print_at=(0, 3, 9, 15), facts=_facts, sweep=sweep))

@@ -30,9 +30,8 @@ from scipy import integrate, special
 
 from fusioncenter import context, montecarlo, plotting, power
 from fusioncenter.context import Parameter
-from fusioncenter.explore import Slider
-from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
+from fusioncenter.figures.explorable import declare
 from fusioncenter.figures.leong2011.common import CH_ALLOCATION, STATIC, Z_TOL, draw_sensors, m_seed
 from fusioncenter.figures.registry import Claim
 
@@ -61,6 +60,10 @@ SETTABLE = (
     common.trials_parameter(REALIZATIONS, "random sensor draws per number of sensors",
                             name="realizations"),
 )
+#: The slider over the grid: its text beside the value, the first frame and those of print.
+SLIDER = {"parameter": "gamma_total", "values": BUDGETS,
+          "label": "total power budget γ_total (power units)", "symbol": "γ_total",
+          "fmt": "{:.2g}", "start": 8, "print_at": (0, 8, 12, 16)}
 
 
 def _chunk(rng: np.random.Generator, n: int, *, M: int, gamma: float) -> np.ndarray:
@@ -196,15 +199,14 @@ def plot(data: dict):
         ax.set_xticks(M, [str(m) for m in M])
         ax.set_xlim(0.8, 160)
         ax.set_xlabel("number of sensors $M$ (sensors)")
+        ax.legend(loc="upper right", ncol=2)
     ax1.set(ylim=YLIM_P, ylabel=r"steady-state error $P_\infty$ (state units$^2$)",
             title=rf"(a) budget $\gamma_{{\mathrm{{total}}}}$ = {data['gamma_total']:.2g}; "
                   f"{data['n_realizations']} draws of the sensors per M")
-    ax1.legend(loc="upper right", ncol=2)
     ax2.set_yscale("log")
     ax2.set(ylim=YLIM_EXCESS, ylabel=r"$P_\infty - \sigma_w^2$ (state units$^2$)",
             title=f"(b) mean SNR per sensor s̄ = {data['sbar_optimal']:.3g} (optimal), "
                   f"{data['sbar_equal']:.3g} (equal power)")
-    ax2.legend(loc="upper right", ncol=2)
     return plotting.finish(fig)
 
 
@@ -237,26 +239,23 @@ def checks(data: dict) -> list[Claim]:
     ]
 
 
+def _facts(data: dict) -> dict[str, str]:
+    i = int(np.flatnonzero(data["M"] == M_QUOTED)[0])
+    return {"p_opt": f"{data['optimal'][i]:.3f}", "p_eq": f"{data['equal'][i]:.3f}",
+            "p_opt_max": f"{data['optimal'][-1]:.4f}",
+            "law_max": f"{data['law_optimal'][-1]:.4f}",
+            "sbar": f"{data['sbar_optimal']:.3g}", "draws": f"{data['n_realizations']}"}
+
+
 def _decreasing(values) -> bool:
     return bool(np.all(np.diff(np.asarray(values, dtype=float), axis=0) < 0))
 
 
+@declare.sweep_doc("""The optimal allocation's error is never above equal power's, at
+                   every budget, M and draw; both mean errors fall from one budget to the next
+                   at every M.""", budgets=("tuple of float", "The slider's budgets, increasing."))
 def sweep(budgets, frames) -> list[Claim]:
-    """Along the slider: optimal never worse, and more power never hurts.
-
-    Parameters
-    ----------
-    budgets : tuple of float
-        The slider's budgets, increasing.
-    frames : list of dict
-        The data of ``leong2011-explore`` at each of them.
-
-    Returns
-    -------
-    list of Claim
-        The optimal allocation's error is never above equal power's, at every budget, M and
-        draw; both mean errors fall from one budget to the next at every M.
-    """
+    """Along the slider: optimal never worse, and more power never hurts."""
     gap = min(float(np.min(f["min_gap"])) for f in frames)
     opt = np.array([f["optimal"] for f in frames])  # (budgets, M)
     eq = np.array([f["equal"] for f in frames])
@@ -271,15 +270,7 @@ def sweep(budgets, frames) -> list[Claim]:
     ]
 
 
-def _facts(data: dict) -> dict[str, str]:
-    i = int(np.flatnonzero(data["M"] == M_QUOTED)[0])
-    return {"p_opt": f"{data['optimal'][i]:.3f}", "p_eq": f"{data['equal'][i]:.3f}",
-            "p_opt_max": f"{data['optimal'][-1]:.4f}",
-            "law_max": f"{data['law_optimal'][-1]:.4f}",
-            "sbar": f"{data['sbar_optimal']:.3g}", "draws": f"{data['n_realizations']}"}
-
-
-common.register_figure(
+declare.register(
     id="leong2011-explore",
     paper="leong2011",
     caption="Multi-access over static channels (the sensors of Figs. 3-4), at the total power "
@@ -290,12 +281,9 @@ common.register_figure(
     label="sec-leong2011-alloc-explore",
     parameters={**MODEL, "sigma_v2": STATIC["sigma_v2"], "h": STATIC["h"], "M": list(MS),
                 "realizations": REALIZATIONS, "gamma_total_grid": list(BUDGETS)},
-    functions=(compute, plot, checks),
+    functions=(compute, plot, checks, sweep, _facts),
     settable=SETTABLE,
     note="Our own figure, on the model of the paper's Figs. 3-4 (multi-access); M up to 128 "
     "and the 1/M laws at a fixed budget are ours.",
+    slider=SLIDER,
 )
-register_slider(Slider(
-    entry_id="leong2011-explore", parameter="gamma_total", values=BUDGETS,
-    label="total power budget γ_total (power units)", symbol="γ_total", fmt="{:.2g}",
-    start=8, print_at=(0, 8, 12, 16), facts=_facts, sweep=sweep))

@@ -13,9 +13,8 @@ from scipy.stats import norm
 
 from fusioncenter import event, plotting
 from fusioncenter.context import Parameter
-from fusioncenter.explore import Slider
-from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
+from fusioncenter.figures.explorable import declare
 from fusioncenter.figures.registry import Claim
 
 OWN_IDS = ("mo2015-explore",)
@@ -36,6 +35,10 @@ SETTABLE_MO = (
     Parameter("delta", "float", "trigger parameter δ of the sensor (units of y²)", 1.0,
               minimum=0.0, exclusive_minimum=True, model=True),
 )
+#: The slider over the grid: its text beside the value, the first frame and those of print.
+SLIDER_MO = {"parameter": "delta", "values": MO_DELTAS,
+             "label": "trigger parameter δ (units of y²)", "symbol": "δ", "fmt": "{:.3g}",
+             "start": 8, "print_at": (0, 8, 12, 16)}
 
 
 def _mo_moments(delta: float) -> tuple[float, float, float, float]:
@@ -147,25 +150,19 @@ def checks_mo(data: dict) -> list[Claim]:
     ]
 
 
+def _facts_mo(data: dict) -> dict[str, str]:
+    return {"rate": f"{data['rate']:.3f}", "mse": f"{data['mse']:.3f}",
+            "ptilde": f"{data['ptilde']:.3f}", "xtilde": f"{data['xtilde']:.3f}"}
+
+
 def _increasing(values) -> bool:
     return bool(np.all(np.diff(np.asarray(values, dtype=float)) > 0))
 
 
+@declare.sweep_doc("The rate falls, the mean squared error and P̃ grow, from one value to the "
+                   "next.", deltas=("tuple of float", "The slider's values of δ, increasing."))
 def sweep_mo(deltas, frames) -> list[Claim]:
-    """Along the slider: sending less costs accuracy, and a silence says less.
-
-    Parameters
-    ----------
-    deltas : tuple of float
-        The slider's values of δ, increasing.
-    frames : list of dict
-        The data of ``mo2015-explore`` at each of them.
-
-    Returns
-    -------
-    list of Claim
-        The rate falls, the mean squared error and P̃ grow, from one value to the next.
-    """
+    """Along the slider: sending less costs accuracy, and a silence says less."""
     rate = [f["rate"] for f in frames]
     mse = [f["mse"] for f in frames]
     pt = [f["ptilde"] for f in frames]
@@ -180,12 +177,7 @@ def sweep_mo(deltas, frames) -> list[Claim]:
     ]
 
 
-def _facts_mo(data: dict) -> dict[str, str]:
-    return {"rate": f"{data['rate']:.3f}", "mse": f"{data['mse']:.3f}",
-            "ptilde": f"{data['ptilde']:.3f}", "xtilde": f"{data['xtilde']:.3f}"}
-
-
-common.register_figure(
+declare.register(
     id="mo2015-explore",
     paper="mo2015",
     caption="One sensor under the stochastic trigger, at the trigger parameter δ of the slider: "
@@ -194,11 +186,8 @@ common.register_figure(
     chapter="book/mo2015/rate",
     label="sec-mo2015-rate-explore",
     parameters={"model": MO, "delta_grid": list(MO_DELTAS)},
-    functions=(compute_mo, plot_mo, checks_mo),
+    functions=(compute_mo, plot_mo, checks_mo, sweep_mo, _facts_mo),
     settable=SETTABLE_MO,
     note="Our own figure, on the model of the notes' single-sensor example; deterministic.",
+    slider=SLIDER_MO,
 )
-register_slider(Slider(
-    entry_id="mo2015-explore", parameter="delta", values=MO_DELTAS,
-    label="trigger parameter δ (units of y²)", symbol="δ", fmt="{:.3g}", start=8,
-    print_at=(0, 8, 12, 16), facts=_facts_mo, sweep=sweep_mo))

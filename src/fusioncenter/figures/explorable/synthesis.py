@@ -21,10 +21,9 @@ import numpy as np
 
 from fusioncenter import censoring, comparison, plotting
 from fusioncenter.context import Parameter
-from fusioncenter.explore import Slider
-from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
 from fusioncenter.figures import synthesis as fs
+from fusioncenter.figures.explorable import declare
 from fusioncenter.figures.registry import Claim
 
 OWN_IDS = ("synthesis-explore",)
@@ -32,20 +31,23 @@ OWN_IDS = ("synthesis-explore",)
 SE_ID = "synthesis-explore"
 #: The slider's grid: the budget b from 0.2 to 1.6 transmissions per step, in steps of 0.1.
 SE_BUDGETS = tuple(round(0.2 + 0.1 * k, 1) for k in range(15))
-#: Monte Carlo sizes of the entry (and of every frame), per profile: small, so that the 15
-#: frames cost a few seconds on one core; the paired standard errors say what they resolve.
-SE_TRIALS = {"fast": 256, "paper": 512}
-SE_PARTICLES = {"fast": 200, "paper": 200}
+#: The tracks of the trigger's calibration per profile (the trials and particles, of the entry
+#: and of every frame, are :data:`~fusioncenter.figures.explorable.declare.PF_TRIALS` and
+#: :data:`~fusioncenter.figures.explorable.declare.PF_PARTICLES`).
 SE_CALIBRATION = {"fast": 256, "paper": 256}
 SETTABLE_SE = (
-    common.trials_parameter(SE_TRIALS, "Monte Carlo trials (shared by every scheme)"),
-    common.trials_parameter(SE_PARTICLES, "particles of each particle filter",
-                            name="particles", minimum=10),
+    *declare.pf_sizes("Monte Carlo trials (shared by every scheme)",
+                      "particles of each particle filter"),
     common.trials_parameter(SE_CALIBRATION, "tracks of the calibration of the trigger's delta",
                             name="calibration_trials"),
     Parameter("budget", "float", "the budget b: target transmissions per step (of 2 sensors)",
               1.0, minimum=0.1, maximum=1.9, model=True),
 )
+#: The slider over the grid: its text beside the value, the first frame and those of print.
+SLIDER_SE = {"parameter": "budget", "values": SE_BUDGETS,
+             "label": "bandwidth budget b (transmissions per step, of 2 sensors)",
+             "symbol": "b", "fmt": "{:.1f}", "unit": "per step", "start": 8,
+             "print_at": (0, 3, 8, 14), "fixed": declare.fixed_sizes(SETTABLE_SE)}
 #: The reference curves: trigger parameters (units of y²) and per-sensor send probabilities.
 SE_REF_DELTA = tuple(float(d) for d in np.geomspace(0.05, 500.0, 25))
 SE_REF_P = tuple(round(0.05 * k, 2) for k in range(1, 20))
@@ -198,22 +200,20 @@ def checks_se(data: dict) -> list[Claim]:
     ]
 
 
+def _facts_se(data: dict) -> dict[str, str]:
+    gap = 100 * (data["trigger_pos"] - data["cfwmd_pos"]) / data["trigger_pos"]
+    return {"b": f"{data['budget']:.1f}", "rate": f"{data['cfwmd_rate']:.2f}",
+            "cfwmd": f"{data['cfwmd_pos']:.3f}", "trigger": f"{data['trigger_pos']:.3f}",
+            "cfomd": f"{data['cfomd_pos']:.3f}", "random": f"{data['random_pos']:.2f}",
+            "allsend": f"{data['allsend_pos']:.3f}", "gap_pct": f"{gap:+.0f}",
+            "trials": f"{data['n_trials']}", "particles": f"{data['n_particles']}"}
+
+
+@declare.sweep_doc("The claims, each with its numbers along the slider.",
+                   budgets=("tuple of float", "The slider's budgets, increasing."))
 def sweep_se(budgets, frames) -> list[Claim]:
     """Along the slider: deciding on the data beats random selection, CFwMD beats the
-    trigger at budgets up to 1 and not at the largest, all-send is never beaten.
-
-    Parameters
-    ----------
-    budgets : tuple of float
-        The slider's budgets, increasing.
-    frames : list of dict
-        The data of ``synthesis-explore`` at each of them.
-
-    Returns
-    -------
-    list of Claim
-        The claims, each with its numbers along the slider.
-    """
+    trigger at budgets up to 1 and not at the largest, all-send is never beaten."""
     b = np.asarray(budgets, dtype=float)
 
     def col(key):
@@ -256,16 +256,7 @@ def sweep_se(budgets, frames) -> list[Claim]:
     ]
 
 
-def _facts_se(data: dict) -> dict[str, str]:
-    gap = 100 * (data["trigger_pos"] - data["cfwmd_pos"]) / data["trigger_pos"]
-    return {"b": f"{data['budget']:.1f}", "rate": f"{data['cfwmd_rate']:.2f}",
-            "cfwmd": f"{data['cfwmd_pos']:.3f}", "trigger": f"{data['trigger_pos']:.3f}",
-            "cfomd": f"{data['cfomd_pos']:.3f}", "random": f"{data['random_pos']:.2f}",
-            "allsend": f"{data['allsend_pos']:.3f}", "gap_pct": f"{gap:+.0f}",
-            "trials": f"{data['n_trials']}", "particles": f"{data['n_particles']}"}
-
-
-common.register_figure(
+declare.register(
     id=SE_ID,
     paper="book",
     caption="The four schemes of one tracking problem (zheng2014 Section VII.A, two sensors) "
@@ -276,18 +267,13 @@ common.register_figure(
     "scale; (b) a zoom.",
     chapter=fs.CHAPTER,
     label="sec-synthesis-explore",
-    parameters={**fs.PROBLEM, "budget_grid": list(SE_BUDGETS), "trials": SE_TRIALS,
-                "particles": SE_PARTICLES, "calibration_trials": SE_CALIBRATION,
+    parameters={**fs.PROBLEM, "budget_grid": list(SE_BUDGETS),
+                "trials": declare.PF_TRIALS, "particles": declare.PF_PARTICLES,
+                "calibration_trials": SE_CALIBRATION,
                 "reference_delta": list(SE_REF_DELTA), "reference_p": list(SE_REF_P)},
-    functions=(compute_se, plot_se, checks_se),
+    functions=(compute_se, plot_se, checks_se, sweep_se, _facts_se),
     settable=SETTABLE_SE,
     note="Our own figure: synthesis-frontier's compute at one budget, at smaller Monte Carlo "
     "sizes; every claim is checked with paired standard errors.",
+    slider=SLIDER_SE,
 )
-register_slider(Slider(
-    entry_id=SE_ID, parameter="budget", values=SE_BUDGETS,
-    label="bandwidth budget b (transmissions per step, of 2 sensors)", symbol="b",
-    fmt="{:.1f}", unit="per step", start=8, print_at=(0, 3, 8, 14),
-    fixed={p: {"trials": SE_TRIALS[p], "particles": SE_PARTICLES[p],
-               "calibration_trials": SE_CALIBRATION[p]} for p in SE_TRIALS},
-    facts=_facts_se, sweep=sweep_se))

@@ -16,9 +16,8 @@ import numpy as np
 from fusioncenter import censoring as cs
 from fusioncenter import plotting
 from fusioncenter.context import Parameter
-from fusioncenter.explore import Slider
-from fusioncenter.explore import register as register_slider
 from fusioncenter.figures import common
+from fusioncenter.figures.explorable import declare
 from fusioncenter.figures.registry import Claim
 from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES
 from fusioncenter.figures.zheng2014.comparisons import schemes_data
@@ -32,18 +31,17 @@ ZE_ID = "zheng2014-explore"
 ZE = {"N": 2, "feedback": "state"}
 #: The slider's grid: l from 0.2 to 1.8 transmissions per step, in steps of 0.1.
 ZE_LS = tuple(round(0.2 + 0.1 * k, 1) for k in range(17))
-#: Monte Carlo sizes of the entry (and of every frame of the slider), per profile: small, so
-#: that the 17 frames cost a few seconds on one core; the paired standard errors say what
-#: they resolve.
-ZE_TRIALS = {"fast": 256, "paper": 512}
-ZE_PARTICLES = {"fast": 200, "paper": 200}
 SETTABLE_ZE = (
-    common.trials_parameter(ZE_TRIALS, "Monte Carlo trials (shared by the four schemes)"),
-    common.trials_parameter(ZE_PARTICLES, "particles of the fusion centre's filter",
-                            name="particles", minimum=10),
+    *declare.pf_sizes("Monte Carlo trials (shared by the four schemes)",
+                      "particles of the fusion centre's filter"),
     Parameter("l", "float", "target number of transmissions per step (of N = 2 sensors)",
               1.0, minimum=0.0, exclusive_minimum=True, maximum=2.0, model=True),
 )
+#: The slider over the grid: its text beside the value, the first frame and those of print.
+SLIDER_ZE = {"parameter": "l", "values": ZE_LS,
+             "label": "target transmissions per step l (of 2 sensors)", "symbol": "l",
+             "fmt": "{:.1f}", "unit": "per step", "start": 8, "print_at": (0, 4, 8, 16),
+             "fixed": declare.fixed_sizes(SETTABLE_ZE)}
 #: The fixed axes of every frame (metres): every frame's values lie inside.
 ZE_YLIM_TAVG = (0.5, 30.0)
 ZE_YLIM_TIME = (0.4, 50.0)
@@ -137,22 +135,22 @@ def checks_ze(data: dict) -> list[Claim]:
     ]
 
 
+def _facts_ze(data: dict) -> dict[str, str]:
+    i = {s: _i(data, s) for s in SCHEMES}
+    tp, tr = data["tavg_position"], data["transmissions"]
+    return {"l": f"{data['l']:.1f}", "cfwmd_tx": f"{tr[i['cfwmd']]:.2f}",
+            "cfomd_tx": f"{tr[i['cfomd']]:.2f}",
+            "cfwmd": f"{tp[i['cfwmd']]:.3f}", "cfomd": f"{tp[i['cfomd']]:.3f}",
+            "random": f"{tp[i['random']]:.2f}", "allsend": f"{tp[i['all-send']]:.3f}",
+            "gap_pct": f"{100 * (tp[i['cfwmd']] / tp[i['all-send']] - 1):+.0f}",
+            "trials": f"{data['n_trials']}", "particles": f"{data['n_particles']}"}
+
+
+@declare.sweep_doc("The four claims, each with its numbers at every ``l`` that it concerns.",
+                   ls=("tuple of float", "The slider's values of ``l``, increasing."))
 def sweep_ze(ls, frames) -> list[Claim]:
     """Along the slider: all-send is never beaten, CFwMD's gap to it shrinks, CFwMD's
-    transmissions track ``l``, CFwMD beats CFoMD.
-
-    Parameters
-    ----------
-    ls : tuple of float
-        The slider's values of ``l``, increasing.
-    frames : list of dict
-        The data of ``zheng2014-explore`` at each of them.
-
-    Returns
-    -------
-    list of Claim
-        The four claims, each with its numbers at every ``l`` that it concerns.
-    """
+    transmissions track ``l``, CFwMD beats CFoMD."""
     ls = np.asarray(ls, dtype=float)
     f0 = frames[0]
     w = _i(f0, "cfwmd")
@@ -198,18 +196,7 @@ def sweep_ze(ls, frames) -> list[Claim]:
     ]
 
 
-def _facts_ze(data: dict) -> dict[str, str]:
-    i = {s: _i(data, s) for s in SCHEMES}
-    tp, tr = data["tavg_position"], data["transmissions"]
-    return {"l": f"{data['l']:.1f}", "cfwmd_tx": f"{tr[i['cfwmd']]:.2f}",
-            "cfomd_tx": f"{tr[i['cfomd']]:.2f}",
-            "cfwmd": f"{tp[i['cfwmd']]:.3f}", "cfomd": f"{tp[i['cfomd']]:.3f}",
-            "random": f"{tp[i['random']]:.2f}", "allsend": f"{tp[i['all-send']]:.3f}",
-            "gap_pct": f"{100 * (tp[i['cfwmd']] / tp[i['all-send']] - 1):+.0f}",
-            "trials": f"{data['n_trials']}", "particles": f"{data['n_particles']}"}
-
-
-common.register_figure(
+declare.register(
     id=ZE_ID,
     paper="zheng2014",
     caption="Fig. 1's problem (two scalar sensors, the predicted state fed back) at the target "
@@ -217,16 +204,12 @@ common.register_figure(
     "against the transmissions per step it measured, (b) the position RMSE against time.",
     chapter="book/zheng2014/results",
     label="sec-zheng2014-results-explore",
-    parameters={**ZE, "l_grid": list(ZE_LS), "trials": ZE_TRIALS, "particles": ZE_PARTICLES,
+    parameters={**ZE, "l_grid": list(ZE_LS), "trials": declare.PF_TRIALS,
+                "particles": declare.PF_PARTICLES,
                 "all-send": "run once at l = N (it ignores l)"},
-    functions=(compute_ze, plot_ze, checks_ze),
+    functions=(compute_ze, plot_ze, checks_ze, sweep_ze, _facts_ze),
     settable=SETTABLE_ZE,
     note="Our own figure, on the model of Fig. 1 at smaller Monte Carlo sizes; every claim "
     "is checked with paired standard errors.",
+    slider=SLIDER_ZE,
 )
-register_slider(Slider(
-    entry_id=ZE_ID, parameter="l", values=ZE_LS,
-    label="target transmissions per step l (of 2 sensors)", symbol="l", fmt="{:.1f}",
-    unit="per step", start=8, print_at=(0, 4, 8, 16),
-    fixed={p: {"trials": ZE_TRIALS[p], "particles": ZE_PARTICLES[p]} for p in ZE_TRIALS},
-    facts=_facts_ze, sweep=sweep_ze))
