@@ -265,7 +265,7 @@ def checks_mc(data: dict) -> list[Claim]:
     ]
 
 
-# Both are the book's own figures of this chapter; the rest is theirs.
+# The chapter's two figures, both the book's own (paper "book"): each row holds what is theirs.
 for _id, _label, _functions, _parameters, _settable, _caption, _note in (
         ("background-riccati", "sec-background-riccati-figure",
          (compute_riccati, plot_riccati, checks_riccati), {"scalar": SCALAR, "vector": VECTOR},

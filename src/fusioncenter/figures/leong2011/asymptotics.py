@@ -193,7 +193,7 @@ def checks_fig2(data: dict) -> list[Claim]:
     ]
 
 
-# The two figures share the part, the chapter and the way labels are named; the rest is theirs.
+# Figs. 1-2 share the part, the chapter and the form of their ids and labels; a row holds the rest.
 for _fig, _functions, _parameters, _settable, _caption, _note in (
         ("1", (compute_fig1, plot_fig1, checks_fig1), FIG1, SETTABLE_FIG1,
          "Multi-access, symmetric sensors, αᵢ = 1/√M: (a) the steady-state error P∞ against M "
