@@ -12,7 +12,7 @@ from figure_helpers import cached_data, data, failed
 
 from fusioncenter import figures
 from fusioncenter.figures import zheng2014
-from fusioncenter.figures.zheng2014 import linear
+from fusioncenter.figures.zheng2014 import linear, no_feedback
 
 IDS = ["zheng2014-fig1", "zheng2014-fig2", "zheng2014-table1", "zheng2014-fig3",
        "zheng2014-table1-choices"]
@@ -211,15 +211,15 @@ def test_fig3_takes_fig1s_all_send_and_random_runs():
 
     runs.forget_runs()
     linear._fig1_runs.cache_clear()
-    linear._fig3_runs.cache_clear()
+    no_feedback._fig3_runs.cache_clear()
     seed, n, P = 3, 256, 20
     f1 = linear._fig1_runs(seed, n, P, 2, 1.0)
-    f3 = linear._fig3_runs(seed, n, P, n)
+    f3 = no_feedback._fig3_runs(seed, n, P, n)
     assert f3[0].mc is f1[0].mc and f3[1].mc is f1[1].mc  # all-send, random
     assert f3[0].feedback == "none" and f1[0].feedback == "state"
     runs.forget_runs()
     linear._fig1_runs.cache_clear()
-    linear._fig3_runs.cache_clear()
+    no_feedback._fig3_runs.cache_clear()
 
 
 def test_kept_runs_are_stored_in_the_compute_cache(tmp_path, monkeypatch):

@@ -185,20 +185,6 @@ def checks_riccati(data: dict) -> list[Claim]:
     ]
 
 
-common.register_figure(
-    id="background-riccati",
-    paper="book",
-    caption="The Riccati recursion converging to its steady state: a scalar unstable system "
-    "(closed-form root) and a constant-velocity model (checked against filterpy and scipy's DARE).",
-    chapter=CHAPTER,
-    label="sec-background-riccati-figure",
-    parameters={"scalar": SCALAR, "vector": VECTOR},
-    functions=(compute_riccati, plot_riccati, checks_riccati),
-    settable=SETTABLE_RICCATI,
-    note="Our own figure; deterministic (no Monte Carlo).",
-)
-
-
 # ------------------------------------------------------------------ Monte Carlo vs Riccati
 def _kf_squared_errors(rng: np.random.Generator, n: int, steps: int, q=None,
                        r=None) -> np.ndarray:
@@ -279,15 +265,19 @@ def checks_mc(data: dict) -> list[Claim]:
     ]
 
 
-common.register_figure(
-    id="background-kf-montecarlo",
-    paper="book",
-    caption="What the Riccati recursion predicts: the Monte Carlo mean squared error of the "
-    "Kalman filter matches the diagonal of Pₖ|ₖ at every step.",
-    chapter=CHAPTER,
-    label="sec-background-kf-montecarlo",
-    parameters={"model": VECTOR, "trials": MC_TRIALS},
-    functions=(compute_mc, plot_mc, checks_mc),
-    settable=SETTABLE_MC,
-    note="Our own figure; agreement within the stated Monte Carlo error.",
-)
+# The chapter's two figures, both the book's own (paper "book"): each row holds what is theirs.
+for _id, _label, _functions, _parameters, _settable, _caption, _note in (
+        ("background-riccati", "sec-background-riccati-figure",
+         (compute_riccati, plot_riccati, checks_riccati), {"scalar": SCALAR, "vector": VECTOR},
+         SETTABLE_RICCATI,
+         "The Riccati recursion converging to its steady state: a scalar unstable system "
+         "(closed-form root) and a constant-velocity model (checked against filterpy and scipy's "
+         "DARE).", "Our own figure; deterministic (no Monte Carlo)."),
+        ("background-kf-montecarlo", "sec-background-kf-montecarlo",
+         (compute_mc, plot_mc, checks_mc), {"model": VECTOR, "trials": MC_TRIALS}, SETTABLE_MC,
+         "What the Riccati recursion predicts: the Monte Carlo mean squared error of the Kalman "
+         "filter matches the diagonal of Pₖ|ₖ at every step.",
+         "Our own figure; agreement within the stated Monte Carlo error.")):
+    common.register_figure(id=_id, paper="book", caption=_caption, chapter=CHAPTER, label=_label,
+                           parameters=_parameters, functions=_functions, settable=_settable,
+                           note=_note)

@@ -11,31 +11,16 @@ import scipy.stats
 from fusioncenter import fading, plotting, riccati
 from fusioncenter.context import Parameter
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc, register_figure, settings
-from fusioncenter.figures.dey2009.common import (
-    BLOCK,
-    CH_DIST,
-    DIST,
-    DIST_PATHS,
-    GRID_PATHS,
-    KS_LEVEL,
-    P0,
-    REL_SLACK,
-    SCALAR,
-    STEPS,
-    Z_TOL,
-    excess_z,
-    max_finite,
-    plain_log_ticks,
-    scalar_channel,
-)
+from fusioncenter.figures.dey2009 import common
 from fusioncenter.figures.registry import Claim
 
 #: The overridable parameters of ``dey2009-distribution``.
 SETTABLE_DIST = (
-    Parameter("paths", "int", "Monte Carlo paths per fading law", dict(DIST_PATHS), minimum=4),
-    Parameter("alt_paths", "int", "paths per law from the alternative p_0", dict(GRID_PATHS),
+    Parameter("paths", "int", "Monte Carlo paths per fading law", dict(common.DIST_PATHS),
+              minimum=4),
+    Parameter("alt_paths", "int", "paths per law from the alternative p_0", dict(common.GRID_PATHS),
               minimum=2),
-    Parameter("sigma_v", "float", "measurement-noise standard deviation", DIST["sigma_v"],
+    Parameter("sigma_v", "float", "measurement-noise standard deviation", common.DIST["sigma_v"],
               minimum=1e-6, model=True),
 )
 
@@ -51,25 +36,27 @@ SETTABLE_DIST = (
              profile="Sets the number of paths (:data:`DIST_PATHS`, :data:`GRID_PATHS`).")
 def compute_distribution(profile: str, seed: int, **over) -> dict:
     """Data of ``dey2009-distribution``: the law of p_k beyond its mean, for both fading laws."""
-    s = SCALAR
+    s = common.SCALAR
     v = settings("dey2009-distribution", SETTABLE_DIST, profile, over)
     sv2 = v["sigma_v"] ** 2
     n, ng = v["paths"], v["alt_paths"]
-    levels = np.array(DIST["quantiles"])
-    low = riccati.scalar_sequence(P0, s["a"], s["sigma_w2"], 1.0, sv2, STEPS)
+    levels = np.array(common.DIST["quantiles"])
+    low = riccati.scalar_sequence(common.P0, s["a"], s["sigma_w2"], 1.0, sv2, common.STEPS)
     bins = np.geomspace(10.0, 2e4, 61)
-    out: dict = {"k": np.arange(STEPS + 1), "levels": levels, "n_paths": n, "n_alt_paths": ng,
-                 "seed": seed, "lower_envelope": low, "bins": bins, "p0": P0,
-                 "p0_alt": DIST["p0_alt"], "laws": np.array(["rayleigh", "nakagami"])}
+    out: dict = {"k": np.arange(common.STEPS + 1), "levels": levels, "n_paths": n,
+                 "n_alt_paths": ng, "seed": seed, "lower_envelope": low, "bins": bins,
+                 "p0": common.P0, "p0_alt": common.DIST["p0_alt"],
+                 "laws": np.array(["rayleigh", "nakagami"])}
     finals = {}
     for j, kind in enumerate(("rayleigh", "nakagami")):
-        ch = scalar_channel(kind)
-        res = fading.scalar_paths(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch, P0, STEPS, n,
-                                  seed + j, block_size=BLOCK)
+        ch = common.scalar_channel(kind)
+        res = fading.scalar_paths(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch, common.P0,
+                                  common.STEPS, n, seed + j, block_size=common.BLOCK)
         x = res.samples
         h = n // 2
-        alt = fading.scalar_paths(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch, DIST["p0_alt"],
-                                  STEPS, ng, seed + 10 + j, block_size=BLOCK)
+        alt = fading.scalar_paths(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch,
+                                  common.DIST["p0_alt"], common.STEPS, ng, seed + 10 + j,
+                                  block_size=common.BLOCK)
         final = x[:, -1]
         finals[kind] = final
         mean = final.mean()
@@ -77,8 +64,8 @@ def compute_distribution(profile: str, seed: int, **over) -> dict:
         out.update({
             f"{kind}_quantiles": np.quantile(x, levels, axis=0),
             f"{kind}_mean": res.mean, f"{kind}_stderr": res.stderr,
-            f"{kind}_s": fading.scalar_bounds(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch, P0,
-                                              STEPS)["s"],
+            f"{kind}_s": fading.scalar_bounds(s["a"], s["sigma_w2"], sv2, s["sigma_n2"], ch,
+                                              common.P0, common.STEPS)["s"],
             f"{kind}_density": np.histogram(final, bins=bins, density=True)[0],
             f"{kind}_min_rel_gap": float(np.min((x[:, 1:] - low[1:]) / low[1:])),
             f"{kind}_ks_time": float(scipy.stats.ks_2samp(x[:h, 80], x[h:, -1]).pvalue),
@@ -135,11 +122,11 @@ def plot_distribution(data: dict):
     axes[1].legend()
     axes[2].set(xscale="log", yscale="log", xlabel=r"$x$ (units of $x^2$)",
                 ylabel=r"$P(p_{100} > x)$ (dimensionless)", title="upper tail")
-    plain_log_ticks(axes[2].xaxis)
+    common.plain_log_ticks(axes[2].xaxis)
     axes[2].legend()
-    sigma_v = data.get("sigma_v", DIST["sigma_v"])
+    sigma_v = data.get("sigma_v", common.DIST["sigma_v"])
     return plotting.finish(fig, title=rf"Distribution of $p_k$: $\sigma_v = {sigma_v:g}$,"
-                           rf" $\lambda = {SCALAR['lam']:g}$, $E[p_0] = {data['p0']:g}$")
+                           rf" $\lambda = {common.SCALAR['lam']:g}$, $E[p_0] = {data['p0']:g}$")
 
 
 @checks_doc("One claim per statement, with the measured p-values, fractions or z-scores.")
@@ -150,22 +137,22 @@ def checks_distribution(data: dict) -> list[Claim]:
         Claim("every sampled pₖ is above the sure lower envelope (the Riccati recursion of a "
               "perfect channel, r → ∞)",
               bool(min(data["rayleigh_min_rel_gap"], data["nakagami_min_rel_gap"])
-                   >= -REL_SLACK),
+                   >= -common.REL_SLACK),
               f"min over paths and k ≥ 1 of (pₖ − lₖ)/lₖ: "
               f"{data['rayleigh_min_rel_gap']:.3e} (Rayleigh), "
               f"{data['nakagami_min_rel_gap']:.3e} (Nakagami)"),
         Claim(f"stationary by k = 80: two-sample KS (disjoint halves of the paths) of p₈₀ vs "
-              f"p₁₀₀ does not reject at level {KS_LEVEL:g}",
-              bool(min(data["rayleigh_ks_time"], data["nakagami_ks_time"]) > KS_LEVEL),
+              f"p₁₀₀ does not reject at level {common.KS_LEVEL:g}",
+              bool(min(data["rayleigh_ks_time"], data["nakagami_ks_time"]) > common.KS_LEVEL),
               f"p-values {data['rayleigh_ks_time']:.3f}, {data['nakagami_ks_time']:.3f}"),
-        Claim(f"the stationary law does not depend on p₀: KS of p₁₀₀ from p₀ = {P0:g} vs "
-              f"p₀ = {data['p0_alt']:g} does not reject at level {KS_LEVEL:g}",
-              bool(min(data["rayleigh_ks_p0"], data["nakagami_ks_p0"]) > KS_LEVEL),
+        Claim(f"the stationary law does not depend on p₀: KS of p₁₀₀ from p₀ = {common.P0:g} vs "
+              f"p₀ = {data['p0_alt']:g} does not reject at level {common.KS_LEVEL:g}",
+              bool(min(data["rayleigh_ks_p0"], data["nakagami_ks_p0"]) > common.KS_LEVEL),
               f"p-values {data['rayleigh_ks_p0']:.3f}, {data['nakagami_ks_p0']:.3f}"),
     ]
     za = [(0.5 - data[f"{k}_above_mean"]) / np.sqrt(0.25 / n) for k in ("rayleigh", "nakagami")]
     claims.append(Claim("right-skewed: P(p₁₀₀ > E[p₁₀₀]) < 1/2 by more than 4 binomial s.e.",
-                        bool(min(za) > Z_TOL),
+                        bool(min(za) > common.Z_TOL),
                         f"{data['rayleigh_above_mean']:.3f}, {data['nakagami_above_mean']:.3f} "
                         f"(z = {za[0]:.1f}, {za[1]:.1f})", paper_specific=True))
 
@@ -177,16 +164,16 @@ def checks_distribution(data: dict) -> list[Claim]:
     claims.append(Claim(
         "Nakagami(1/2) spreads p more, not just shifts it: more mass below the pooled 5% "
         "quantile AND above the pooled 95% quantile than Rayleigh (> 4 s.e. each)",
-        bool(z_lo > Z_TOL and z_hi > Z_TOL),
+        bool(z_lo > common.Z_TOL and z_hi > common.Z_TOL),
         f"P(p ≤ {data['x_lo']:.1f}): {data['nakagami_cdf_lo']:.3f} vs "
         f"{data['rayleigh_cdf_lo']:.3f} (z = {z_lo:.1f}); P(p > {data['x_hi']:.1f}): "
         f"{data['nakagami_sf_hi']:.3f} vs {data['rayleigh_sf_hi']:.3f} (z = {z_hi:.1f})",
         paper_specific=True))
-    zm = max_finite(np.concatenate([
-        excess_z(data[f"{k}_mean"][1:], data[f"{k}_stderr"][1:], data[f"{k}_s"][1:])
+    zm = common.max_finite(np.concatenate([
+        common.excess_z(data[f"{k}_mean"][1:], data[f"{k}_stderr"][1:], data[f"{k}_s"][1:])
         for k in ("rayleigh", "nakagami")]))
     claims.append(Claim("the mean of the distribution stays below the tight bound sₖ (4 s.e.)",
-                        bool(zm < Z_TOL), f"max z = {zm:.2f}"))
+                        bool(zm < common.Z_TOL), f"max z = {zm:.2f}"))
     return claims
 
 
@@ -196,11 +183,12 @@ register_figure(
     caption="Beyond the mean: the distribution of pₖ over time (quantile bands) and at steady "
     "state (density of log p and upper tail) for Rayleigh and Nakagami(1/2) fading, Fig. 1's "
     "channel with σᵥ = 1.",
-    chapter=CH_DIST,
+    chapter=common.CH_DIST,
     label="sec-dey2009-distribution",
-    parameters={**SCALAR, "sigma_v": DIST["sigma_v"], "E[p_0]": P0, "p0_alt": DIST["p0_alt"],
-                "quantiles": list(DIST["quantiles"]), "steps": STEPS, "paths": DIST_PATHS,
-                "alt_paths": GRID_PATHS, "block_size": BLOCK, "ks_level": KS_LEVEL},
+    parameters={**common.SCALAR, "sigma_v": common.DIST["sigma_v"], "E[p_0]": common.P0,
+                "p0_alt": common.DIST["p0_alt"], "quantiles": list(common.DIST["quantiles"]),
+                "steps": common.STEPS, "paths": common.DIST_PATHS, "alt_paths": common.GRID_PATHS,
+                "block_size": common.BLOCK, "ks_level": common.KS_LEVEL},
     functions=(compute_distribution, plot_distribution, checks_distribution),
     settable=SETTABLE_DIST,
     note="Our own figure: the paper leaves the distribution of the error covariance as future "

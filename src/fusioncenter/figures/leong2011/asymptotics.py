@@ -193,27 +193,21 @@ def checks_fig2(data: dict) -> list[Claim]:
     ]
 
 
-register_figure(
-    id="leong2011-fig1", paper="leong2011",
-    caption="Multi-access, symmetric sensors, αᵢ = 1/√M: (a) the steady-state error "
-    "P∞ against M and the asymptotic expression σ_w² + K/M of (13); (b) P∞ − σ_w² "
-    "against K/M (log-log).",
-    chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig1", parameters=FIG1,
-    functions=(compute_fig1, plot_fig1, checks_fig1), settable=SETTABLE_FIG1,
-    note="Deterministic. The range M = 1, …, 100 is our choice (not stated). As the paper says, "
-    "the 1/M expression is accurate from 20–30 sensors on.",
-)
-
-register_figure(
-    id="leong2011-fig2", paper="leong2011",
-    caption="Multi-access with general sensor parameters (cᵢ, σᵢ², hᵢ each between 0.5 and 1), "
-    "αᵢ = 1/√M: P∞ against M between the asymptotic lower and upper bounds (37) "
-    "of Lemma 4 (and the exact bounds at the extreme SNRs).",
-    chapter=CH_ASYMPTOTICS, label="sec-leong2011-fig2", parameters=FIG2,
-    functions=(compute_fig2, plot_fig2, checks_fig2), settable=SETTABLE_FIG2,
-    note="One seeded draw (uniform on the ranges, which the paper does not specify). The "
-    "paper's notation Cᵢ, Rᵢ in this passage stands for cᵢ, σᵢ². P∞ lies between "
-    "the bounds, as in the paper; (37) drops O(1/M²) terms, so we check it from M = 2 on (at "
-    "M = 1 about 16 % of draws fall below the lower one) and add exact bounds valid at all M.",
-)
-
+# Figs. 1-2 share the part, the chapter and the form of their ids and labels; a row holds the rest.
+for _fig, _functions, _parameters, _settable, _caption, _note in (
+        ("1", (compute_fig1, plot_fig1, checks_fig1), FIG1, SETTABLE_FIG1,
+         "Multi-access, symmetric sensors, αᵢ = 1/√M: (a) the steady-state error P∞ against M "
+         "and the asymptotic expression σ_w² + K/M of (13); (b) P∞ − σ_w² against K/M (log-log).",
+         "Deterministic. The range M = 1, …, 100 is our choice (not stated). As the paper says, "
+         "the 1/M expression is accurate from 20–30 sensors on."),
+        ("2", (compute_fig2, plot_fig2, checks_fig2), FIG2, SETTABLE_FIG2,
+         "Multi-access with general sensor parameters (cᵢ, σᵢ², hᵢ each between 0.5 and 1), "
+         "αᵢ = 1/√M: P∞ against M between the asymptotic lower and upper bounds (37) of Lemma 4 "
+         "(and the exact bounds at the extreme SNRs).",
+         "One seeded draw (uniform on the ranges, which the paper does not specify). The paper's "
+         "notation Cᵢ, Rᵢ in this passage stands for cᵢ, σᵢ². P∞ lies between the bounds, as in "
+         "the paper; (37) drops O(1/M²) terms, so we check it from M = 2 on (at M = 1 about 16 % "
+         "of draws fall below the lower one) and add exact bounds valid at all M.")):
+    register_figure(id=f"leong2011-fig{_fig}", paper="leong2011", caption=_caption,
+                    chapter=CH_ASYMPTOTICS, label=f"sec-leong2011-fig{_fig}",
+                    parameters=_parameters, functions=_functions, settable=_settable, note=_note)

@@ -124,6 +124,12 @@ SETTABLE_FADING = (Parameter("realizations", "int", "fading realizations per poi
                              dict(FADING["realizations"]), minimum=2),
                    Parameter("steps", "int", "fading steps per realization",
                              dict(FADING["steps"]), minimum=2))
+#: Figs. 3-6 by the figure numbers of the multi-access and the orthogonal scheme: the chapter,
+#: the parameters and the settable ones, the same for the four panels.
+PANEL_GROUPS = {
+    ("3", "4"): (CH_ALLOCATION, STATIC, SETTABLE_STATIC),
+    ("5", "6"): (CH_FADING, FADING, SETTABLE_FADING),
+}
 
 
 #: The descriptions of the arguments that :func:`register_panels` binds in the compute functions
@@ -141,70 +147,84 @@ PANEL_DOC = {
 ACCESS_NAMES = {"multi-access": "Multi-access", "orthogonal": "Orthogonal access"}
 
 
-def register_panels(figs: tuple[str, str], caption: str, what_b: str, functions: tuple,
-                    **fields) -> None:
+def register_panels(figs: tuple[str, str], functions: tuple, *, caption: str, error: str,
+                    note: str) -> None:
     """Register panels (a) and (b) of a multi-access and an orthogonal figure (Figs. 3-6).
 
     Parameters
     ----------
     figs : tuple of str
-        The figure numbers of the multi-access and the orthogonal scheme (``("3", "4")``).
-    caption : str
-        A template with ``{access}`` (capitalized) and ``{what}`` (the panel's quantity).
-    what_b : str
-        Panel (b)'s quantity; panel (a)'s is the total power meeting the error target.
+        The figure numbers of the multi-access and the orthogonal scheme, a key of
+        :data:`PANEL_GROUPS` (which gives the chapter, the parameters and the settable ones).
     functions : tuple
         ``(compute, plot, checks)``; ``compute(profile, seed, *, access, panel, **over)``.
-    **fields
-        The other fields of :class:`fusioncenter.figures.registry.Entry` (``chapter``,
-        ``parameters``, ``settable``, ``note``).
+    caption : str
+        A template with ``{access}`` (capitalized) and ``{what}`` (the panel's quantity).
+    error : str
+        What panel (b) shows under the sum-power budget; panel (a) shows the total power meeting
+        the error target.
+    note : str
+        The entries' note.
 
     Returns
     -------
     None
     """
     compute, plot, checks = functions
+    chapter, parameters, settable = PANEL_GROUPS[figs]
     for fig, access in zip(figs, ("multi-access", "orthogonal"), strict=True):
         for panel in ("a", "b"):
-            what = "total power meeting the error target D = 2" if panel == "a" else what_b
+            what = ("total power meeting the error target D = 2" if panel == "a" else
+                    f"{error} under the sum-power budget γ_total = 10⁻³")
             register(Entry(
                 id=f"leong2011-fig{fig}{panel}", paper="leong2011", kind="figure",
                 caption=caption.format(access=ACCESS_NAMES[access], what=what),
                 label=f"sec-leong2011-fig{fig}{panel}",
                 compute=functools.partial(compute, access=access, panel=panel), plot=plot,
-                checks=checks, status="reproduced", **fields))
+                checks=checks, status="reproduced", chapter=chapter, parameters=parameters,
+                settable=settable, note=note))
 
 
 
-def pooled_claim(statement: str, diff, stderr, ratios: tuple) -> Claim:
+def pooled_claims(data: dict, key: str, statement: str, ratios: tuple) -> list[Claim]:
     """The claim that orthogonal access gains or loses more than multi-access, pooled over M.
 
-    The realizations at each M are independent, so the mean over M of the paired differences
-    has the standard error ``sqrt(sum(stderr**2)) / len(M)``; at the smallest M the two schemes
-    are close and either may win on a given seed, the gap opens with M.
+    Only the orthogonal figures (4 and 6) compute the comparison; for the others the list is
+    empty. The realizations at each M are independent, so the mean over M of the paired
+    differences has the standard error ``sqrt(sum(stderr**2)) / len(M)``; at the smallest M the
+    two schemes are close and either may win on a given seed, the gap opens with M.
 
     Parameters
     ----------
+    data : dict
+        A panel's data; the comparison, where computed, is ``data[key + "_diff"]`` (per M, the
+        paired difference, orthogonal minus multi-access) and its standard error
+        ``data[key + "_diff_stderr"]``.
+    key : str
+        What is compared (``"benefit"``, ``"loss"``).
     statement : str
         What is claimed, without the closing ``", pooled over M (paired, 4 s.e.)"``.
-    diff, stderr : numpy.ndarray
-        Per M, the paired difference (orthogonal minus multi-access) and its standard error.
     ratios : tuple
-        ``(name, orthogonal, multi_access, digits)``: the ratios shown in the detail.
+        ``(name, orthogonal, multi_access, digits)``: the data keys of the ratios shown in the
+        detail, their name and the digits printed.
 
     Returns
     -------
-    Claim
-        True when the pooled z-score exceeds :data:`Z_TOL`.
+    list of Claim
+        Empty without the comparison, else the claim, true when the pooled z-score exceeds
+        :data:`Z_TOL`.
     """
+    if f"{key}_diff" not in data:
+        return []
+    diff, stderr = data[f"{key}_diff"], data[f"{key}_diff_stderr"]
     z = diff / stderr
     pooled = np.mean(diff) / (np.sqrt(np.sum(stderr ** 2)) / z.size)
     name, orthogonal, multi, digits = ratios
-    return Claim(
+    return [Claim(
         f"{statement}, pooled over M (paired, {Z_TOL:.0f} s.e.)", bool(pooled > Z_TOL),
         f"pooled z = {pooled:.1f}; per M z = " + ", ".join(f"{v:.1f}" for v in z)
-        + f"; {name}orthogonal " + ", ".join(f"{r:.{digits}f}" for r in orthogonal)
-        + "; multi-access " + ", ".join(f"{r:.{digits}f}" for r in multi))
+        + f"; {name}orthogonal " + ", ".join(f"{r:.{digits}f}" for r in data[orthogonal])
+        + "; multi-access " + ", ".join(f"{r:.{digits}f}" for r in data[multi]))]
 
 
 def _model(name: str, doc: str, default: float, minimum: float = 1e-9) -> Parameter:

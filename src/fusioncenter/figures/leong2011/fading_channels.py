@@ -10,24 +10,13 @@ import numpy as np
 
 from fusioncenter import context, montecarlo, plotting, power
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
-from fusioncenter.figures.leong2011.common import (
-    CH_FADING,
-    FADING,
-    PANEL_DOC,
-    SETTABLE_FADING,
-    Z_TOL,
-    draw_sensors,
-    m_seed,
-    pooled_claim,
-    register_panels,
-    xy,
-)
+from fusioncenter.figures.leong2011 import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.profile import by_profile
 
 
 def _draw_fading(rng: np.random.Generator, n: int, M: int):
-    sv, d = draw_sensors(rng, n, M)
+    sv, d = common.draw_sensors(rng, n, M)
     mu = rng.uniform(0.5, 1.0, (n, M))
     return sv, d, mu
 
@@ -38,8 +27,8 @@ def _fading_stats(d, mu):
 
 
 def _fading_feasible(access: str, sv, d, mu) -> np.ndarray:
-    p = FADING
-    x, y = xy(p["D"], p["a"], p["sigma_w2"])
+    p = common.FADING
+    x, y = common.xy(p["D"], p["a"], p["sigma_w2"])
     c = np.full(sv.shape, p["c"])
     ok = np.sum(c**2 / sv, -1) > x / y  # CSI: the threshold does not depend on the gains
     rho, tau, _ = power.lmmse_coefficients(p["a"], p["sigma_w2"], c, sv, *_fading_stats(d, mu))
@@ -48,7 +37,7 @@ def _fading_feasible(access: str, sv, d, mu) -> np.ndarray:
 
 def _fading_values(access: str, panel: str, h, c, sv, hm, vr, vi):
     """Per realization: (CSI value, no-CSI value, CSI residual, no-CSI residual)."""
-    p = FADING
+    p = common.FADING
     a, sw, sn, D, g = p["a"], p["sigma_w2"], p["sigma_n2"], p["D"], p["gamma_total"]
     kap = power.kappa(a, sw, c, sv)
     if panel == "a":
@@ -71,7 +60,7 @@ def _fading_chunk(rng: np.random.Generator, n: int, *, access: str, panel: str, 
     sum power (a) or P (b), and the residuals are ``max_k P_{k+1}/D - 1`` / ``P_inf/D - 1``
     (a) or the power residuals (b); with ``other``, the other access scheme's two values on the
     same realizations and fading follow."""
-    p = FADING
+    p = common.FADING
     keep: list[tuple] = []
     draws = []
     since = 0
@@ -102,7 +91,7 @@ def _lmmse_trial(rng: np.random.Generator, n: int, *, access: str, steps: int, a
                  hm, vr, vi) -> np.ndarray:
     """Per trial: time average of ``(x_k - xhat_{k|k-1})^2 / P_{k|k-1} - 1`` (mean 0 if the
     filter's variances are its true errors)."""
-    p = FADING
+    p = common.FADING
     x, xp, P = power.simulate_nocsi(rng, n, steps, access, alpha_t, p["a"], p["sigma_w2"], c,
                                     sv, p["sigma_n2"], hm, vr, vi)
     return ((x - xp) ** 2 / P - 1).mean(-1)
@@ -110,7 +99,7 @@ def _lmmse_trial(rng: np.random.Generator, n: int, *, access: str, steps: int, a
 
 def _lmmse_check(profile: str, seed: int, access: str, panel: str):
     """Simulate the system and the no-CSI filter for one realization at three values of M."""
-    p = FADING
+    p = common.FADING
     n = by_profile(profile, **p["lmmse_check"]["trials"])
     rng = np.random.default_rng(seed)
     Ms = (p["M"][0], p["M"][len(p["M"]) // 2], p["M"][-1])
@@ -131,7 +120,7 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
         fn = functools.partial(_lmmse_trial, access=access, steps=p["lmmse_check"]["steps"],
                                alpha_t=power.beamformed(al, hm), c=c, sv=sv[0], hm=hm, vr=vr,
                                vi=vi)
-        res = montecarlo.simulate(fn, n, m_seed(seed, M, 2))
+        res = montecarlo.simulate(fn, n, common.m_seed(seed, M, 2))
         z.append(float(res.mean / res.stderr))
         ratio.append(float(1 + res.mean))
     return np.array(Ms), np.array(z), np.array(ratio), n
@@ -143,12 +132,12 @@ def _lmmse_check(profile: str, seed: int, access: str, panel: str):
              ``csi_wins``, ``loss_ratio``, ``max_residual_csi``, ``max_residual_nocsi`` (the
              constraints), ``acceptance``; ``lmmse_M``, ``lmmse_z``, ``lmmse_mse_ratio``,
              ``lmmse_trials``, ``lmmse_steps`` (the check of (32)-(33)); orthogonal access also
-             ``multi_loss_ratio``, ``loss_diff(_stderr)``.""", **PANEL_DOC,
+             ``multi_loss_ratio``, ``loss_diff(_stderr)``.""", **common.PANEL_DOC,
              over="Overrides of ``realizations`` and ``steps`` (``SETTABLE_FADING``).")
 def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     """Data of ``leong2011-fig5a`` ... ``fig6b``: full CSI against no CSI on Rician fading,
     per number of sensors (paired realizations)."""
-    p = FADING
+    p = common.FADING
     n = over.get("realizations") or by_profile(profile, **p["realizations"])
     steps = over.get("steps") or by_profile(profile, **p["steps"])
     other = access == "orthogonal"  # Fig. 6 also computes the multi-access loss
@@ -156,10 +145,10 @@ def compute_fading(profile: str, seed: int, *, access: str, panel: str, **over) 
     for M in p["M"]:
         fn = functools.partial(_fading_chunk, access=access, panel=panel, M=M, steps=steps,
                                other=other)
-        rows.append(montecarlo.simulate(fn, n, m_seed(seed, M), executor=context.executor()))
+        rows.append(montecarlo.simulate(fn, n, common.m_seed(seed, M), executor=context.executor()))
     s = np.stack([r.samples for r in rows])
     lr = np.log(s[:, :, 1] / s[:, :, 0])  # log(no-CSI / CSI), paired per realization
-    Ms, z, ratio, n_mc = _lmmse_check(profile, m_seed(seed, 0, 3), access, panel)
+    Ms, z, ratio, n_mc = _lmmse_check(profile, common.m_seed(seed, 0, 3), access, panel)
     rt = np.sqrt(n)
     out = {
         "M": np.array(p["M"]), "n_realizations": n, "steps": steps, "seed": seed,
@@ -238,31 +227,26 @@ def checks_fading(data: dict) -> list[Claim]:
             f"at least {np.floor(1000 * wins) / 10:.1f} % of the realizations")
     out = [
         Claim(f"full CSI beats no CSI ({what}): mean log(no-CSI / CSI) > 0 at every M by more "
-              f"than {Z_TOL:.0f} s.e. (paired)", bool(np.all(z > Z_TOL)),
+              f"than {common.Z_TOL:.0f} s.e. (paired)", bool(np.all(z > common.Z_TOL)),
               f"smallest z = {np.min(z):.1f}; CSI better on {wins} at every M; ratio "
               "of means no-CSI / CSI = " + ", ".join(f"{r:.3f}" for r in data["loss_ratio"])),
         res,
         Claim(f"the linear MMSE variance (32)-(33) is the simulated error: time-averaged "
-              f"eₖ²/Pₖ = 1 within {Z_TOL:.0f} s.e. (system + fading + filter simulated)",
-              bool(np.all(np.abs(zl) < Z_TOL)),
+              f"eₖ²/Pₖ = 1 within {common.Z_TOL:.0f} s.e. (system + fading + filter simulated)",
+              bool(np.all(np.abs(zl) < common.Z_TOL)),
               "M = " + ", ".join(str(m) for m in data["lmmse_M"]) + ": ratio "
               + ", ".join(f"{r:.4f}" for r in data["lmmse_mse_ratio"])
               + f"; max |z| = {np.max(np.abs(zl)):.2f} ({data['lmmse_trials']} trials)"),
     ]
-    if "loss_diff" in data:
-        out.append(pooled_claim(
-            "the loss without CSI is larger for orthogonal than for multi-access: mean "
-            "log(no-CSI / CSI) larger", data["loss_diff"], data["loss_diff_stderr"],
-            ("no-CSI / CSI ", data["loss_ratio"], data["multi_loss_ratio"], 2)))
-    return out
+    return out + common.pooled_claims(
+        data, "loss", "the loss without CSI is larger for orthogonal than for multi-access: mean "
+        "log(no-CSI / CSI) larger", ("no-CSI / CSI ", "loss_ratio", "multi_loss_ratio", 2))
 
 
-register_panels(
-    ("5", "6"), "{access}, Rician fading: full CSI (greedy allocation at every step) vs no "
-    "CSI (linear MMSE estimator), {what}, against the number of sensors M.",
-    "error variance under the sum-power budget γ_total = 10⁻³",
-    (compute_fading, plot_fading, checks_fading), chapter=CH_FADING, parameters=FADING,
-    settable=SETTABLE_FADING,
+common.register_panels(
+    ("5", "6"), (compute_fading, plot_fading, checks_fading), error="error variance",
+    caption="{access}, Rician fading: full CSI (greedy allocation at every step) vs no CSI "
+    "(linear MMSE estimator), {what}, against the number of sensors M.",
     note="Paper's parameters, 1000 steps × 100 realizations (paper profile). Our choices: M = 2, "
     "4, …, 20; P₀ = D in (a), σ_w²/(1 − a²) in (b); realizations where a scheme cannot "
     "meet D are redrawn (acceptance in the data).")

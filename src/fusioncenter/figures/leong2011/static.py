@@ -9,32 +9,20 @@ import numpy as np
 
 from fusioncenter import context, montecarlo, plotting, power
 from fusioncenter.figures.common import checks_doc, compute_doc, plot_doc
-from fusioncenter.figures.leong2011.common import (
-    CH_ALLOCATION,
-    PANEL_DOC,
-    REL_TOL,
-    SETTABLE_STATIC,
-    STATIC,
-    Z_TOL,
-    draw_sensors,
-    m_seed,
-    pooled_claim,
-    register_panels,
-    xy,
-)
+from fusioncenter.figures.leong2011 import common
 from fusioncenter.figures.registry import Claim
 from fusioncenter.profile import by_profile
 
 
 def _draw_static(rng: np.random.Generator, n: int, M: int):
     """``(h, sigma_v2)`` for ``n`` realizations of ``M`` sensors (c_i = 1)."""
-    sv, d = draw_sensors(rng, n, M)
+    sv, d = common.draw_sensors(rng, n, M)
     return d**-2.0, sv
 
 
 def _static_feasible(access: str, h, sv) -> np.ndarray:
-    p = STATIC
-    x, y = xy(p["D"], p["a"], p["sigma_w2"])
+    p = common.STATIC
+    x, y = common.xy(p["D"], p["a"], p["sigma_w2"])
     ok = np.sum(p["c"] ** 2 / sv, axis=-1) > x / y
     if access == "multi-access":  # the equal-power ceiling is lower
         kap = power.kappa(p["a"], p["sigma_w2"], np.full(sv.shape, p["c"]), sv)
@@ -46,12 +34,12 @@ def _static_feasible(access: str, h, sv) -> np.ndarray:
 def _static_values(access: str, panel: str, h, sv):
     """Per realization: (optimal, equal) total power (panel a) or P_inf (panel b), plus the
     constraint residuals."""
-    p = STATIC
+    p = common.STATIC
     a, sw, sn = p["a"], p["sigma_w2"], p["sigma_n2"]
     c = np.full(sv.shape, p["c"])
     rho, tau, kap = power.static_coefficients(a, sw, h, c, sv)
     if panel == "a":
-        x, y = xy(p["D"], a, sw)
+        x, y = common.xy(p["D"], a, sw)
         solver = power.coherent_min_power if access == "multi-access" else \
             power.orthogonal_min_power
         opt = solver(rho, tau, kap, sn, x, y, infeasible="nan")
@@ -97,7 +85,7 @@ def _static_chunk(rng: np.random.Generator, n: int, *, access: str, panel: str, 
 
 def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
     """Largest relative gap between the closed form and SLSQP on a few realizations."""
-    p = STATIC
+    p = common.STATIC
     a, sw, sn = p["a"], p["sigma_w2"], p["sigma_n2"]
     rng = np.random.default_rng(seed)
     worst = 0.0
@@ -109,7 +97,7 @@ def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
                 continue
             rho, tau, kap = power.static_coefficients(a, sw, h[0], np.full(M, p["c"]), sv[0])
             if panel == "a":
-                x, y = xy(p["D"], a, sw)
+                x, y = common.xy(p["D"], a, sw)
                 prob = "coherent-min-power" if access == "multi-access" else \
                     "orthogonal-min-power"
                 cf = power.min_power(access, p["D"], a, sw, h[0], np.full(M, p["c"]), sv[0], sn)
@@ -133,18 +121,18 @@ def _solver_check(access: str, panel: str, seed: int, n_each: int = 3) -> float:
              allocations, ``ratio_mean(_stderr)`` of equal / optimal, ``min_gap``,
              ``max_residual_optimal``, ``max_residual_equal`` (the constraints), ``acceptance``;
              ``solver_rel_gap`` (closed form against SLSQP); orthogonal access also
-             ``multi_ratio_mean``, ``benefit_diff(_stderr)``.""", **PANEL_DOC,
+             ``multi_ratio_mean``, ``benefit_diff(_stderr)``.""", **common.PANEL_DOC,
              over="Overrides of ``realizations`` (:data:`SETTABLE_STATIC`).")
 def compute_static(profile: str, seed: int, *, access: str, panel: str, **over) -> dict:
     """Data of ``leong2011-fig3a`` ... ``fig4b``: optimal against equal power allocation on
     static channels, per number of sensors (paired realizations)."""
-    p = STATIC
+    p = common.STATIC
     n = over.get("realizations") or by_profile(profile, **p["realizations"])
     other = access == "orthogonal"  # Fig. 4 also computes the multi-access benefit
     rows = []
     for M in p["M"]:
         fn = functools.partial(_static_chunk, access=access, panel=panel, M=M, other=other)
-        rows.append(montecarlo.simulate(fn, n, m_seed(seed, M), executor=context.executor()))
+        rows.append(montecarlo.simulate(fn, n, common.m_seed(seed, M), executor=context.executor()))
     s = np.stack([r.samples for r in rows])  # (nM, n, cols)
     ratio = s[:, :, 1] / s[:, :, 0]  # equal / optimal, per realization
     out = {
@@ -157,7 +145,7 @@ def compute_static(profile: str, seed: int, *, access: str, panel: str, **over) 
         "max_residual_equal": np.max(np.abs(s[:, :, 3]), axis=1),
         "acceptance": n / s[:, :, 4].sum(1),
         "ratio_mean": ratio.mean(1), "ratio_stderr": ratio.std(1, ddof=1) / np.sqrt(n),
-        "solver_rel_gap": _solver_check(access, panel, m_seed(seed, 0, 1)),
+        "solver_rel_gap": _solver_check(access, panel, common.m_seed(seed, 0, 1)),
     }
     if other:
         r2 = s[:, :, 6] / s[:, :, 5]
@@ -203,7 +191,7 @@ def checks_static(data: dict) -> list[Claim]:
     resid = "P∞ = D" if data["panel"] == "a" else "sum power = γ_total"
     out = [
         Claim("closed form equals the SLSQP optimum (relative 1e-6) on sampled realizations",
-              data["solver_rel_gap"] < REL_TOL,
+              data["solver_rel_gap"] < common.REL_TOL,
               f"largest relative gap {data['solver_rel_gap']:.1e}"),
         Claim(f"optimal allocation never worse than equal power ({what}), every realization",
               bool(np.all(data["min_gap"] >= -1e-9)),
@@ -214,24 +202,19 @@ def checks_static(data: dict) -> list[Claim]:
               f"max residuals {np.max(data['max_residual_optimal']):.1e}, "
               f"{np.max(data['max_residual_equal']):.1e}"),
         Claim(f"general trend downwards in M: mean optimal {what} at the largest M below the "
-              f"smallest M's by more than {Z_TOL:.0f} s.e.",
-              bool(opt[0] - opt[-1] > Z_TOL * np.hypot(se[0], se[-1])),
+              f"smallest M's by more than {common.Z_TOL:.0f} s.e.",
+              bool(opt[0] - opt[-1] > common.Z_TOL * np.hypot(se[0], se[-1])),
               f"{opt[0]:.4g} at M = {data['M'][0]} → {opt[-1]:.4g} at M = {data['M'][-1]}"),
     ]
-    if "benefit_diff" in data:
-        out.append(pooled_claim(
-            "optimal allocation helps more in orthogonal than with multi-access: mean "
-            "equal/optimal ratio larger", data["benefit_diff"], data["benefit_diff_stderr"],
-            ("ratios ", data["ratio_mean"], data["multi_ratio_mean"], 3)))
-    return out
+    return out + common.pooled_claims(
+        data, "benefit", "optimal allocation helps more in orthogonal than with multi-access: "
+        "mean equal/optimal ratio larger", ("ratios ", "ratio_mean", "multi_ratio_mean", 3))
 
 
-register_panels(
-    ("3", "4"), "{access}, static channels: optimal vs equal power allocation, {what}, "
-    "against the number of sensors M (average over random sensor parameters).",
-    "steady-state error under the sum-power budget γ_total = 10⁻³",
-    (compute_static, plot_static, checks_static), chapter=CH_ALLOCATION, parameters=STATIC,
-    settable=SETTABLE_STATIC,
+common.register_panels(
+    ("3", "4"), (compute_static, plot_static, checks_static), error="steady-state error",
+    caption="{access}, static channels: optimal vs equal power allocation, {what}, against "
+    "the number of sensors M (average over random sensor parameters).",
     note="Paper's parameters and 1000 realizations per point (paper profile). Our choices: M = "
     "2, 4, …, 20, and infeasible realizations (target D unreachable by one of the schemes, "
     "rare for M ≥ 2) are redrawn; the acceptance rate is in the data. The multi-access "

@@ -15,13 +15,14 @@ The entries of Part IV(b) are registered by the package's modules
 :mod:`~fusioncenter.figures.zheng2014.nonlinear` (Section VII.C: Figs. 7-10 and Table III);
 they are not imported here (the registry loads them).
 
-The scalar entries are split in four: :mod:`~fusioncenter.figures.zheng2014.common` (what these
+The scalar entries are split in five: :mod:`~fusioncenter.figures.zheng2014.common` (what these
 entries share with those of :mod:`~fusioncenter.figures.zheng2014.vector` and
 :mod:`~fusioncenter.figures.zheng2014.nonlinear`: run sizes, curves, paired differences, plots,
-claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-3 and Table I),
+claims, registration), :mod:`~fusioncenter.figures.zheng2014.linear` (Figs. 1-2 and Table I,
+with feedback), :mod:`~fusioncenter.figures.zheng2014.no_feedback` (Fig. 3),
 :mod:`~fusioncenter.figures.zheng2014.choices` (the book's own sensitivity table) and
 :mod:`~fusioncenter.figures.zheng2014.contrasts` (the paired contrasts of the nonlinear
-entries). The names of the first three are re-exported here.
+entries). The names of the first four are re-exported here.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
 :attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through
@@ -32,6 +33,40 @@ Data keys (plain NumPy arrays and numbers; the chapter ``book/zheng2014/results`
 see :data:`~fusioncenter.figures.zheng2014.linear.DATA_KEYS`.
 """
 
+from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES, Z_ORDER, Z_TOL
+
+# The modules register their entries when imported: this order is the registry's.
+# isort: off
+from fusioncenter.figures.zheng2014.linear import (
+    CHAPTER,
+    DATA_KEYS,
+    FIG1,
+    FIG2,
+    L_FIG2,
+    OWN_IDS,
+    PAPER_TABLE1,
+    PARTICLES,
+    PARTICLES_FIG2,
+    TRIALS,
+    TRIALS_FIG2,
+    checks_fig1,
+    checks_fig2,
+    checks_table1,
+    compute_fig1,
+    compute_fig2,
+    compute_table1,
+    plot_fig1,
+    plot_fig2,
+    plot_table1,
+)
+from fusioncenter.figures.zheng2014.no_feedback import (
+    FIG3,
+    FIG3_CURVES,
+    TRIALS_NOFB_HEAVY,
+    checks_fig3,
+    compute_fig3,
+    plot_fig3,
+)
 from fusioncenter.figures.zheng2014.choices import (
     CHOICES,
     PARTICLES_CHOICES,
@@ -40,35 +75,7 @@ from fusioncenter.figures.zheng2014.choices import (
     compute_choices,
     plot_choices,
 )
-from fusioncenter.figures.zheng2014.common import LABELS, SCHEMES, Z_ORDER, Z_TOL
-from fusioncenter.figures.zheng2014.linear import (
-    CHAPTER,
-    DATA_KEYS,
-    FIG1,
-    FIG2,
-    FIG3,
-    FIG3_CURVES,
-    L_FIG2,
-    OWN_IDS,
-    PAPER_TABLE1,
-    PARTICLES,
-    PARTICLES_FIG2,
-    TRIALS,
-    TRIALS_FIG2,
-    TRIALS_NOFB_HEAVY,
-    checks_fig1,
-    checks_fig2,
-    checks_fig3,
-    checks_table1,
-    compute_fig1,
-    compute_fig2,
-    compute_fig3,
-    compute_table1,
-    plot_fig1,
-    plot_fig2,
-    plot_fig3,
-    plot_table1,
-)
+# isort: on
 
 __all__ = [
     "CHAPTER", "CHOICES", "DATA_KEYS", "FIG1", "FIG2", "FIG3", "FIG3_CURVES", "LABELS", "L_FIG2",

@@ -2,6 +2,7 @@
 curves.
 
 The scalar entries (:mod:`fusioncenter.figures.zheng2014.linear`,
+:mod:`fusioncenter.figures.zheng2014.no_feedback`,
 :mod:`fusioncenter.figures.zheng2014.choices`), the vector ones
 (:mod:`fusioncenter.figures.zheng2014.vector`) and the nonlinear ones
 (:mod:`fusioncenter.figures.zheng2014.nonlinear`) use these pieces:
