@@ -136,8 +136,8 @@ def run_command(args) -> int:
     Returns
     -------
     int
-        :data:`~fusioncenter.cli.exits.EXIT_OK`, or for ``verify``
-        :data:`~fusioncenter.cli.exits.EXIT_CLAIM` if a checked claim failed.
+        ``EXIT_OK`` (0), or for ``verify``
+        ``EXIT_CLAIM`` (1) if a checked claim failed.
 
     Raises
     ------

@@ -40,7 +40,7 @@ def on_sigterm(signum, frame):
     ------
     Terminated
         Always: :func:`fusioncenter.cli.main` stops the workers and exits with
-        :data:`EXIT_TERMINATED`.
+        ``EXIT_TERMINATED`` (143).
     """
     raise Terminated
 

@@ -1,5 +1,5 @@
 """The command line's arguments: the parser of its subcommands and options
-(:func:`build_parser`, with the environment and the exit codes in :data:`EPILOG`) and the
+(:func:`build_parser`, with the environment and the exit codes in ``EPILOG``) and the
 ``--set KEY=VALUE`` overrides (:func:`parse_overrides`)."""
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ def build_parser() -> argparse.ArgumentParser:
     -------
     argparse.ArgumentParser
         ``fusioncenter`` with the subcommands ``list``, ``params``, ``compute``, ``plot`` and
-        ``verify`` (the parsed ``cmd``), each with :data:`EPILOG` (the environment variables
+        ``verify`` (the parsed ``cmd``), each with ``EPILOG`` (the environment variables
         and the exit codes) under its help.
     """
     p = argparse.ArgumentParser(prog="fusioncenter", description=DESCRIPTION,

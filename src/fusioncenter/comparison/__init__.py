@@ -33,7 +33,7 @@ already an approximation (CFoMD) whatever the receiver.
 
 The package, one idea per module:
 
-- :mod:`~fusioncenter.comparison.link`             the faded packet link (:data:`RECEIVERS`,
+- :mod:`~fusioncenter.comparison.link`             the faded packet link (``RECEIVERS``,
   :func:`outage_threshold`, :func:`energy_matched_outage`) and one block of trials with its
   channel gains (:class:`Draw`, :func:`draw`);
 - :mod:`~fusioncenter.comparison.kalman_family`    the Kalman-filter family on given data

@@ -38,7 +38,7 @@ p : float or array_like, optional
 outage : float
     Outage probability of every packet, in ``[0, 1)``.
 receiver : str
-    How the FC reads a missing packet, one of :data:`RECEIVERS`.
+    How the FC reads a missing packet, one of ``RECEIVERS`` (``"csi"``, ``"naive"``).
 runs : sequence of KFRun
     The configurations (:class:`~fusioncenter.comparison.kalman_family.KFRun`), run on the
     same trials.

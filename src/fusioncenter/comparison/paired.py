@@ -1,7 +1,7 @@
 """Paired runs: the per-trial results of one scheme (:class:`Summary`), from which the RMSE, the
 send rate and the calibration follow with their standard errors, and the difference of two
 schemes run on the same trials with its paired standard error
-(:meth:`Summary.paired_difference`); :func:`summary_from_censoring` reads a run of
+(``Summary.paired_difference``); :func:`summary_from_censoring` reads a run of
 :func:`fusioncenter.censoring.run` the same way."""
 
 from __future__ import annotations

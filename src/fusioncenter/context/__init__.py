@@ -25,8 +25,9 @@ Because :func:`fusioncenter.montecarlo.simulate` fixes every random draw by the 
 blocks, the data are bitwise identical under every executor: the executor is a matter of speed.
 
 :func:`Entry.run_compute <fusioncenter.figures.registry.Entry.run_compute>` activates the
-context; a compute that pays for parallel work asks for :func:`executor` (``None`` means
-serial) and passes it to the Monte Carlo runner. The default spec is the environment variable
+context; a compute that pays for parallel work asks for
+:func:`~fusioncenter.context.executors.executor` (``None`` means serial) and passes it to
+the Monte Carlo runner. The default spec is the environment variable
 :data:`EXECUTOR_ENV` (how the book build sets it) or, unset, :func:`default_spec`: ``auto`` in
 the ``paper`` profile on a machine with several cores, serial otherwise (the fast profile's
 runs are too short to repay starting workers).

@@ -1,5 +1,5 @@
 """The executors: the pool of processes or the Dask cluster that runs the active context's Monte
-Carlo tasks (:func:`executor`, :func:`workers`), started on first use, one per spec, and kept
+Carlo tasks (``executor``, ``workers``), started on first use, one per spec, and kept
 for the life of the process until :func:`shutdown` (also registered with ``atexit``).
 
 ``auto`` is a pool of the cores that :func:`fusioncenter.montecarlo.simulate` starts only for a

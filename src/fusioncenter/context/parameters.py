@@ -1,5 +1,5 @@
 """The documented parameters of a registry entry that a run may override (``--set`` on the
-command line): :class:`Parameter` parses and bounds one value, :func:`check_overrides` checks a
+command line): :class:`Parameter` parses and bounds one value, ``check_overrides`` checks a
 run's overrides against an entry's parameters."""
 
 from __future__ import annotations

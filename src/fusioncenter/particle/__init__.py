@@ -37,7 +37,7 @@ A model for :func:`run_filter` is any object with (see :class:`FilterModel`)
   ``(n, d)`` and its covariance ``(n, d, d)``: this is where a fusion centre records its estimate
   and prepares what it feeds back to the sensors for time ``t + 1``. May do nothing;
 * optional ``needs_cov`` (default ``True``): ``False`` skips the weighted covariance (then
-  ``observe`` receives ``cov=None`` and :attr:`FilterOutput.cov` is NaN).
+  ``observe`` receives ``cov=None`` and ``FilterOutput.cov`` is NaN).
 
 Functions (signature, one line each):
 

@@ -11,7 +11,7 @@ The package, one idea per module:
   :func:`log_axis`, :func:`errorbar_log`;
 - :mod:`~fusioncenter.plotting.saving`    a finished figure as PNG bytes with the facts the
   book's site checks (:func:`render`, :func:`layout_facts`);
-- :mod:`~fusioncenter.plotting.alt_text`  its alt text (:func:`describe`).
+- :mod:`~fusioncenter.plotting.alt_text`  its alt text (``describe``).
 
 Every registry ``plot`` builds its figure with :func:`subplots` and hands it to :func:`finish`.
 The names above are re-exported here, so ``plotting.look`` and ``plotting.subplots`` are what

@@ -1,5 +1,5 @@
 """A figure's alt text: what each panel plots against what, and its curves, in plain words
-(:func:`describe`; mathtext becomes Unicode)."""
+(``describe``; mathtext becomes Unicode)."""
 
 from __future__ import annotations
 

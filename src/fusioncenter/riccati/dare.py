@@ -1,5 +1,5 @@
 """The steady state of the matrix recursion: the stabilizing solution of the discrete algebraic
-Riccati equation (:func:`steady_state`), from SciPy's Schur solver or, where that fails near the
+Riccati equation (``steady_state``), from SciPy's Schur solver or, where that fails near the
 unit circle, the structured doubling algorithm."""
 
 from __future__ import annotations

@@ -174,9 +174,9 @@ def time_axis_choice(T: int) -> str:
             "and transmissions are reported for t = 1, …, T")
 
 
-#: The choices of :attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices` that every
-#: scenario shares (the schemes and the
-#: particle filter).
+#: The choices of
+#: :attr:`~fusioncenter.censoring.scenarios.linear.LinearScenario.choices`
+#: that every scenario shares (the schemes and the particle filter).
 SCHEME_CHOICES = {
     "random selection": "each sensor sends independently with probability l/N",
     "all-send": "every sensor sends at every step (l is ignored)",
@@ -229,14 +229,18 @@ class Scenario:
 
     Attributes
     ----------
-    position_index, velocity_index : tuple of int
-        The state components that are positions and velocities (the RMSE's components).
+    position_index : tuple of int
+        The state components that are positions (the RMSE's components).
+    velocity_index : tuple of int
+        The state components that are velocities.
     dynamics : fusioncenter.particle.LinearGaussianDynamics
         The target's law (read-only property).
     d : int
         Dimension of the state (read-only property).
-    F, Q : numpy.ndarray
-        Transition matrix and process-noise covariance of ``dynamics`` (read-only properties).
+    F : numpy.ndarray
+        Transition matrix of ``dynamics`` (read-only property).
+    Q : numpy.ndarray
+        Process-noise covariance of ``dynamics`` (read-only property).
     """
 
     position_index = (0,)

@@ -7,7 +7,7 @@ its ``run`` (zheng2014 Section V; Figs. 4-6, Table II).
   (:func:`sample_in_ellipse`);
 * :mod:`~fusioncenter.censoring.vector_fusion.fused`: :class:`FusedVectorFC`, the same model
   with the tables, organized for speed (the default);
-* :mod:`~fusioncenter.censoring.vector_fusion.simulation`: :func:`run`, the Monte Carlo run.
+* :mod:`~fusioncenter.censoring.vector_fusion.simulation`: ``run``, the Monte Carlo run.
 
 The names below are re-exported here."""
 

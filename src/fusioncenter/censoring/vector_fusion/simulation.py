@@ -1,4 +1,4 @@
-"""The vector scenario's Monte Carlo run (:func:`run`, zheng2014 Section V; Figs. 4-6, Table II):
+"""The vector scenario's Monte Carlo run (``run``, zheng2014 Section V; Figs. 4-6, Table II):
 the trials simulated and tracked by a fusion centre of
 :mod:`~fusioncenter.censoring.vector_fusion.fused` or
 :mod:`~fusioncenter.censoring.vector_fusion.reference`, through

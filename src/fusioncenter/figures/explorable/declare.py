@@ -28,6 +28,7 @@ __all__ = ["PF_PARTICLES", "PF_TRIALS", "fixed_sizes", "pf_sizes", "register", "
 #: synthesis's), per profile: small, so that a grid of 15 to 17 frames costs a few seconds on
 #: one core; the paired standard errors say what they resolve.
 PF_TRIALS = {"fast": 256, "paper": 512}
+#: The particles per trial of those explorables, per profile (with :data:`PF_TRIALS`).
 PF_PARTICLES = {"fast": 200, "paper": 200}
 
 #: The second argument of every ``sweep``; the first, the slider's values, is named after the

@@ -25,7 +25,7 @@ with feedback), :mod:`~fusioncenter.figures.zheng2014.no_feedback` (Fig. 3),
 entries). The names of the first four are re-exported here.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
-:attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through
+:attr:`~fusioncenter.censoring.scenarios.linear.LinearScenario.choices`). All runs go through
 :func:`fusioncenter.censoring.run`: for one seed the trials (truth and measurements) are shared
 by every scheme and every ``l`` of an entry, so differences between curves are paired.
 

@@ -14,7 +14,7 @@ takes this module's chapter, run sizes and :func:`scenario_parameters`; :data:`D
 the data of every scalar entry.
 
 Every choice the paper leaves open is listed in each entry's ``parameters`` (from
-:attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`). All runs go through
+:attr:`~fusioncenter.censoring.scenarios.linear.LinearScenario.choices`). All runs go through
 :func:`fusioncenter.censoring.run`: for one seed the trials (truth and measurements) are shared
 by every scheme and every ``l`` of an entry, so differences between curves are paired.
 
@@ -129,8 +129,8 @@ def scenario_parameters(sc: cs.LinearScenario, **extra) -> dict:
     -------
     dict
         ``N``, ``r``, ``sigma2``, ``T``, ``x0``, ``dt``, ``h``, ``trials`` and ``particles``
-        (:data:`TRIALS`, :data:`PARTICLES`), then ``extra``, then ``choices`` (the scenario's
-        :attr:`~fusioncenter.censoring.scenarios.LinearScenario.choices`).
+        (``TRIALS``, ``PARTICLES``), then ``extra``, then ``choices`` (the scenario's
+        :attr:`~fusioncenter.censoring.scenarios.linear.LinearScenario.choices`).
     """
     return {"N": sc.N, "r": sc.r, "sigma2": sc.sigma2, "T": sc.T, "x0": list(sc.x0),
             "dt": sc.dt, "h": list(sc.h), "trials": dict(TRIALS), "particles": dict(PARTICLES),

@@ -12,7 +12,7 @@
 The scenario, the run sizes and the runs all the filtering entries share (computed once per
 profile, seed and size) are in :mod:`~fusioncenter.figures.zheng2014.nonlinear.scenario`.
 Importing the package registers the five entries; the names the chapters and
-:mod:`fusioncenter.censoring_compare` use are re-exported here.
+:mod:`fusioncenter.figures.zheng2014.reading` use are re-exported here.
 """
 
 from __future__ import annotations
