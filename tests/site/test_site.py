@@ -194,8 +194,9 @@ def test_no_external_resources(site: Path) -> None:
 
     assert counts[".html"] > 0, f"no HTML files under {site}"
     assert (site / MATHJAX_ENTRY).is_file(), f"{MATHJAX_ENTRY} missing from the site"
-    fonts = list((site / "_static/mathjax/output/chtml/fonts/woff-v2").glob("*.woff"))
-    assert fonts, "MathJax CHTML woff fonts missing from _static/mathjax"
+    # MathJax 4's font (book/_ext/mathjax4.py): its CHTML data and WOFF2 files, on the site
+    fonts = list((site / "_static/mathjax/fonts/mathjax-newcm-font/chtml/woff2").glob("*.woff2"))
+    assert fonts, "MathJax CHTML woff2 fonts missing from _static/mathjax"
     assert math_pages, "no page of the site contains math (class=\"math\")"
     if problems:
         pytest.fail("external resources referenced by the site:\n" + "\n".join(problems))
