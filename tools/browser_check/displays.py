@@ -8,7 +8,9 @@ binary operator, ``+ - \\cdot \\times``, or with ``\\quad``-indented ``=``/``\\s
 is a needless split when the row above and the continuation together are narrower than the
 width MathJax measured for the display. The widths are upper bounds (the row above is measured
 as the whole table's width, the continuation as its cells), so a reported split always fits.
-A new line of a chain of relations (``&= ...`` with no indentation) is not a continuation.
+A new line of a chain of relations (``&= ...`` with no indentation) is not a continuation, and
+a display MathJax numbers itself (``\\tag``) is left alone: its label takes width that the
+rows' measure does not show (leong2011's (24, printed) overflowed by 9 px as one line).
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ _SPLITS_JS = r"""
   const out = [];
   for (const item of mj.startup.document.math) {
     if (!item.display || !item.typesetRoot) continue;
+    // a display MathJax numbers itself (\\tag): its label takes width the rows do not show
+    if (/\\tag\b/.test(item.math) || item.typesetRoot.querySelector('mjx-mlabeledtr')) continue;
     const m = item.math.match(/\\begin\{aligned\}([\s\S]*?)\\end\{aligned\}/);
     const tables = [...item.typesetRoot.querySelectorAll('mjx-mtable')]
       .filter(t => !t.querySelector('mjx-mtable'));
