@@ -171,6 +171,12 @@ class NonlinearScenario(scenarios.Scenario):
     position_index = (0, 2)
     velocity_index = (1, 3)
 
+    def sensor_groups(self) -> list[np.ndarray]:
+        # sensors at the same position with the same noise variance measure alike:
+        # Scenario.sensor_groups (the nonlinear fusion centre does not group them)
+        key = np.concatenate([self.positions, self.rvec[:, None]], axis=1)
+        return scenarios.groups_of_rows(key)
+
     @property
     def choices(self) -> dict[str, str]:
         """Every choice the paper leaves open, with the value this scenario uses."""

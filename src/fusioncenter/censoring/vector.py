@@ -214,10 +214,7 @@ class VectorScenario(common.Scenario):
     def sensor_groups(self) -> list[np.ndarray]:
         # the groups of identical (H^i, R^i): common.Scenario.sensor_groups
         key = np.concatenate([self.Hs.reshape(self.N, -1), self.Rs.reshape(self.N, -1)], axis=1)
-        _, inv = np.unique(key, axis=0, return_inverse=True)
-        inv = inv.ravel()
-        order = sorted(range(inv.max() + 1), key=lambda g: int(np.flatnonzero(inv == g)[0]))
-        return [np.flatnonzero(inv == g) for g in order]
+        return common.groups_of_rows(key)
 
 _INV_SQRT_2PI = 1.0 / math.sqrt(2.0 * math.pi)
 

@@ -10,10 +10,12 @@ these."""
 
 from __future__ import annotations
 
+import abc
+
 import numpy as np
 
 
-class FusionCentreModel:
+class FusionCentreModel(abc.ABC):
     """A fusion centre as a model of :func:`fusioncenter.particle.run_filter` (the methods of
     :class:`fusioncenter.particle.FilterModel`, documented once here for every fusion centre).
 
@@ -29,6 +31,7 @@ class FusionCentreModel:
         The particles' dimension ``d`` (set by the subclass).
     """
 
+    @abc.abstractmethod
     def initial(self, rng: np.random.Generator, n: int, P: int) -> np.ndarray:
         """Draw the particles at ``t = 0`` (A1.1).
 
@@ -46,8 +49,8 @@ class FusionCentreModel:
         numpy.ndarray
             Particles ``(n, P, dim)``.
         """
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def transition(self, rng: np.random.Generator, t: int, x: np.ndarray) -> np.ndarray:
         """Propagate the particles from ``t - 1`` to ``t`` (A1.3).
 
@@ -65,8 +68,8 @@ class FusionCentreModel:
         numpy.ndarray
             Particles ``(n, P, dim)`` at ``t``.
         """
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def log_weight(self, t: int, x: np.ndarray) -> np.ndarray:
         """The log-likelihood of what the FC received at ``t``, per particle (A1.4).
 
@@ -83,7 +86,6 @@ class FusionCentreModel:
             Log weights ``(n, P)``; a model may drop constants that are the same for every
             particle of a trial.
         """
-        raise NotImplementedError
 
     def observe(self, t: int, mean: np.ndarray, cov: np.ndarray | None) -> None:
         """Hear the filter's estimate at ``t``; by default nothing is done with it.
@@ -99,6 +101,7 @@ class FusionCentreModel:
         cov : numpy.ndarray or None
             Weighted covariances ``(n, dim, dim)`` (NaN unless the model ``needs_cov``).
         """
+        return None  # a model without feedback has no use for the estimate
 
 
 class ReferenceFC(FusionCentreModel):

@@ -19,6 +19,7 @@ from fusioncenter.censoring.scenarios.common import (
     SCHEME_CHOICES,
     SCHEMES,
     Scenario,
+    groups_of_rows,
     nested_tuple,
     target_dynamics,
     values_text,
@@ -28,5 +29,5 @@ from fusioncenter.models import wna_model
 
 __all__ = [
     "FEEDBACK", "LIKELIHOODS", "SCHEMES", "SCHEME_CHOICES", "Scenario", "LinearScenario",
-    "nested_tuple", "target_dynamics", "values_text", "wna_model",
+    "groups_of_rows", "nested_tuple", "target_dynamics", "values_text", "wna_model",
 ]

@@ -5,6 +5,8 @@ sensors' own Kalman filters (:func:`local_error_recursion`)."""
 
 from __future__ import annotations
 
+import abc
+
 import numpy as np
 
 from fusioncenter import particle
@@ -220,7 +222,27 @@ def local_error_recursion(sc, update) -> None:
         Sig = 0.5 * (Sig + Sig.T)
 
 
-class Scenario:
+def groups_of_rows(key: np.ndarray) -> list[np.ndarray]:
+    """The indices of identical rows of ``key``, one array per group, in the order of each
+    group's first row (the sensors' groups of :meth:`Scenario.sensor_groups`).
+
+    Parameters
+    ----------
+    key : numpy.ndarray
+        One row per sensor ``(N, k)``: what its observation model depends on.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Sensor indices per group.
+    """
+    _, inv = np.unique(key, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    order = sorted(range(inv.max() + 1), key=lambda g: int(np.flatnonzero(inv == g)[0]))
+    return [np.flatnonzero(inv == g) for g in order]
+
+
+class Scenario(abc.ABC):
     """What the scenarios (``censoring.scenarios.LinearScenario``,
     ``censoring.vector.VectorScenario``, ``censoring.nonlinear_model.NonlinearScenario``: frozen
     dataclasses keeping their :class:`fusioncenter.particle.LinearGaussianDynamics` in
@@ -266,6 +288,7 @@ class Scenario:
         """Process-noise covariance ``(d, d)``."""
         return self.dynamics.Q
 
+    @abc.abstractmethod
     def sample(self, rng: np.random.Generator, n: int):
         """Truth and measurements of ``n`` trials: draws ``x_0``, then ``T`` transitions, then
         all measurement noises.
@@ -285,8 +308,8 @@ class Scenario:
             Measurements ``(n, T, N, ...)`` (``z[:, t-1]`` measured at time ``t``), one entry or
             vector per sensor.
         """
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def sensor_groups(self) -> list[np.ndarray]:
         """Indices of sensors with identical observation models (they share every likelihood
         term).
@@ -296,7 +319,6 @@ class Scenario:
         list of numpy.ndarray
             One array of sensor indices per group, in the order of their first sensor.
         """
-        raise NotImplementedError
 
     def _truth(self, rng: np.random.Generator, n: int, *, draw_x0: bool = True) -> np.ndarray:
         """True trajectories ``x (n, T+1, d)`` of ``n`` trials: draws ``x_0`` (else ``x_0`` is
