@@ -46,13 +46,12 @@ def _site(tmp_path: Path, displays: list[str]) -> Path:
     shutil.copytree(mathjax4.fetch(mathjax4.tree()), tmp_path / "_static" / "mathjax")
     for name in ("fusioncenter.css", "wide-math.js"):
         shutil.copy(ROOT / "book" / "_static" / name, tmp_path / "_static" / name)
-    config = mathjax4._merge({}, mathjax4.CONFIG)
     body = "".join(f'<div class="math notranslate nohighlight">\\[{d}\\]</div>' for d in displays)
     (tmp_path / "index.html").write_text(
         '<!doctype html><html lang="en"><head><meta charset="utf-8"><title>t</title>'
         '<link rel="stylesheet" href="_static/fusioncenter.css">'
         "<style>div.math { display: flex; flex-direction: row-reverse; }</style>"
-        f"<script>window.MathJax = {json.dumps(config)}</script>"
+        f"<script>window.MathJax = {json.dumps(mathjax4.CONFIG)}</script>"
         '<script src="_static/wide-math.js"></script>'
         '<script defer src="_static/mathjax/tex-chtml.js"></script></head>'
         f'<body><article class="bd-article" style="max-width: 46rem">{body}</article>'
