@@ -982,3 +982,13 @@ def test_log_region_probability_is_relative_accurate_in_the_tails(c, corr, outsi
     got = float(cs.probability.log_region_probability(np.array(c), cov, a, outside))
     assert np.isfinite(got)
     assert abs(got - ref) <= 1e-10 * max(1.0, abs(ref)), (got, ref)
+
+
+def test_groups_of_rows_orders_groups_by_first_sensor_and_names_bad_keys():
+    from fusioncenter.censoring.scenarios import groups_of_rows
+
+    groups = groups_of_rows(np.array([[2.0, 1.0], [1.0, 1.0], [2.0, 1.0]]))
+    assert [g.tolist() for g in groups] == [[0, 2], [1]]
+    for bad in (np.zeros((0, 2)), np.zeros(3), np.array([[np.nan, 1.0]])):
+        with pytest.raises(ValueError, match="key"):
+            groups_of_rows(bad)

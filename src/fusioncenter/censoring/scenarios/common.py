@@ -235,7 +235,16 @@ def groups_of_rows(key: np.ndarray) -> list[np.ndarray]:
     -------
     list of numpy.ndarray
         Sensor indices per group.
+
+    Raises
+    ------
+    ValueError
+        If ``key`` is not a finite 2-D array with at least one row.
     """
+    key = np.asarray(key, dtype=float)
+    if key.ndim != 2 or key.shape[0] == 0 or not np.all(np.isfinite(key)):
+        raise ValueError(f"key must be a finite 2-D array with at least one row, "
+                         f"got shape {key.shape}")
     _, inv = np.unique(key, axis=0, return_inverse=True)
     inv = inv.ravel()
     order = sorted(range(inv.max() + 1), key=lambda g: int(np.flatnonzero(inv == g)[0]))
